@@ -1,0 +1,306 @@
+"""What a block is: declared ports, parameters and states, and two numba-compilable equation functions.
+
+A block is a definition only (as a Drake System is): parameter and state values live in the compiled
+circuit's vectors and arrive at evaluation time, so one compiled circuit runs any number of parameter
+vectors without being rebuilt.
+
+Ports
+-----
+- ``signal``: causal. An input reads a wire; an output drives one.
+- ``hydraulic``: across variable pressure p [Pa] (gauge), through variable volume flow q [m^3/s].
+- ``rotational``: across variable angular speed w [rad/s], through variable torque [N*m].
+- ``translational``: across variable velocity v [m/s], through variable force [N].
+
+Sign convention (one for every physical kind): the through value a block returns for a port is what it
+**delivers to the net** at that port: flow into the hydraulic node, torque or force acting on the rigid
+node. A net sums what its ports deliver: dp/dt = beta/V * sum(q), J * dw/dt = sum(tau), m * dv/dt = sum(f).
+A port declared ``stores=True`` also returns its contribution to the net's capacity: volume [m^3] for
+hydraulic, inertia [kg*m^2] for rotational, mass [kg] for translational.
+
+Equation functions
+------------------
+Both are plain Python functions of scalars (and of array views for array parameters and states), written
+so that numba can compile them; the code generator calls them by argument *name*:
+``t``, each state's name, each signal input's name, each physical port's name (its across variable), each
+parameter's name, and for an array state ``x`` also ``der_x`` (a view of its derivative, filled in place).
+
+- ``outputs(...)`` returns the tuple :meth:`Block.output_names`: each signal output, then the across value
+  of each port the block prescribes (a pressure or speed source). Which inputs it takes *is* its direct
+  feedthrough: the ordering graph reads the signature, so the declaration cannot drift from the code.
+- ``derivatives(...)`` returns the tuple :meth:`Block.derivative_names`: the through value of each physical
+  port it does not prescribe, the capacity of each storing port, then the derivative of each scalar state.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from dataclasses import dataclass, field
+from enum import Enum
+from typing import Callable, ClassVar
+
+
+class PortKind(str, Enum):
+    SIGNAL = "signal"
+    HYDRAULIC = "hydraulic"
+    ROTATIONAL = "rotational"
+    TRANSLATIONAL = "translational"
+
+
+# kind -> (across name, unit), (through name, unit), (capacity name, unit)
+ACROSS = {
+    PortKind.HYDRAULIC: ("p", "Pa"),
+    PortKind.ROTATIONAL: ("w", "rad/s"),
+    PortKind.TRANSLATIONAL: ("v", "m/s"),
+}
+THROUGH = {
+    PortKind.HYDRAULIC: ("q", "m^3/s"),
+    PortKind.ROTATIONAL: ("tau", "N*m"),
+    PortKind.TRANSLATIONAL: ("f", "N"),
+}
+CAPACITY = {
+    PortKind.HYDRAULIC: ("V", "m^3"),
+    PortKind.ROTATIONAL: ("J", "kg*m^2"),
+    PortKind.TRANSLATIONAL: ("m", "kg"),
+}
+
+
+@dataclass(frozen=True)
+class Port:
+    """A connection point. ``direction`` is "in"/"out" for signals, None for physical ports."""
+
+    name: str
+    kind: PortKind
+    description: str
+    direction: str | None = None
+    unit: str = "1"
+    stores: bool = False
+    optional: bool = False
+    """An optional signal input reads 0 when nothing is connected."""
+
+    @property
+    def physical(self) -> bool:
+        return self.kind is not PortKind.SIGNAL
+
+    @property
+    def unit_of_value(self) -> str:
+        """The unit of what the port carries: a signal's own unit, or the across variable's."""
+        return self.unit if not self.physical else ACROSS[self.kind][1]
+
+
+def signal_in(name: str, description: str, unit: str = "1", optional: bool = False) -> Port:
+    return Port(name, PortKind.SIGNAL, description, "in", unit, optional=optional)
+
+
+def signal_out(name: str, description: str, unit: str = "1") -> Port:
+    return Port(name, PortKind.SIGNAL, description, "out", unit)
+
+
+def hydraulic(name: str, description: str, stores: bool = False) -> Port:
+    return Port(name, PortKind.HYDRAULIC, description, stores=stores)
+
+
+def rotational(name: str, description: str, stores: bool = False) -> Port:
+    return Port(name, PortKind.ROTATIONAL, description, stores=stores)
+
+
+def translational(name: str, description: str, stores: bool = False) -> Port:
+    return Port(name, PortKind.TRANSLATIONAL, description, stores=stores)
+
+
+@dataclass(frozen=True)
+class Param:
+    """One parameter: name, SI unit, default, bounds [lower, upper] (None: open), description.
+
+    ``fluid`` names a netlist-level fluid property (rho, nu, beta) whose value the parameter takes unless
+    the component overrides it. ``array`` parameters are vectors (tables, polynomial coefficients) whose
+    length is fixed when the circuit is built; their default is a tuple.
+    """
+
+    name: str
+    unit: str
+    default: float | tuple | None
+    lower: float | None
+    upper: float | None
+    description: str
+    fluid: str | None = None
+    array: bool = False
+    integer: bool = False
+
+    def check(self, value) -> str | None:
+        """None if ``value`` is inside the bounds, else what is wrong."""
+        values = value if self.array else (value,)
+        for v in values:
+            if not math.isfinite(v):
+                return f"{self.name} = {v} is not finite"
+            if self.lower is not None and v < self.lower:
+                return f"{self.name} = {v:g} {self.unit} is below its lower bound {self.lower:g}"
+            if self.upper is not None and v > self.upper:
+                return f"{self.name} = {v:g} {self.unit} is above its upper bound {self.upper:g}"
+        return None
+
+
+@dataclass(frozen=True)
+class State:
+    """A continuous state: name, SI unit, default initial value, nominal magnitude (scales the absolute
+    tolerance), description. ``size`` (a function of the block's array lengths) makes it an array state."""
+
+    name: str
+    unit: str
+    start: float
+    nominal: float
+    description: str
+    size: Callable[[dict[str, int]], int] | None = None
+
+
+def fluid_params() -> tuple[Param, ...]:
+    """The fluid properties as parameters that default to the netlist's ``fluid:`` section."""
+    return (
+        Param("rho", "kg/m^3", None, 1.0, 5000.0, "fluid density", fluid="rho"),
+        Param("nu", "m^2/s", None, 1e-8, 1e-2, "kinematic viscosity", fluid="nu"),
+        Param("beta", "Pa", None, 1e6, 1e11, "bulk modulus", fluid="beta"),
+    )
+
+
+class Block:
+    """Base of every block type. Subclasses set the class attributes and the equation functions."""
+
+    type_name: ClassVar[str] = ""
+    ports: ClassVar[tuple[Port, ...]] = ()
+    params: ClassVar[tuple[Param, ...]] = ()
+    states: ClassVar[tuple[State, ...]] = ()
+    prescribes: ClassVar[tuple[str, ...]] = ()
+    """Physical ports whose across value this block sets (ideal pressure or speed sources)."""
+    rigid_link: ClassVar[tuple[str, str] | None] = None
+    """(a, b): the two ports are joined rigidly, w_b = ratio(params) * w_a (gears, rack and pinion)."""
+    outputs: ClassVar[Callable | None] = None
+    derivatives: ClassVar[Callable | None] = None
+    ratio: ClassVar[Callable | None] = None
+
+    # ---- derived views of the declarations (used by the compiler, the docs and the contract tests) ----
+    @classmethod
+    def port(cls, name: str) -> Port:
+        for p in cls.ports:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    @classmethod
+    def signal_inputs(cls) -> list[Port]:
+        return [p for p in cls.ports if p.direction == "in"]
+
+    @classmethod
+    def signal_outputs(cls) -> list[Port]:
+        return [p for p in cls.ports if p.direction == "out"]
+
+    @classmethod
+    def physical_ports(cls) -> list[Port]:
+        return [p for p in cls.ports if p.physical]
+
+    @classmethod
+    def output_names(cls) -> list[str]:
+        return [p.name for p in cls.signal_outputs()] + list(cls.prescribes)
+
+    @classmethod
+    def through_ports(cls) -> list[Port]:
+        linked = set(cls.rigid_link or ())
+        return [p for p in cls.physical_ports() if p.name not in cls.prescribes and p.name not in linked]
+
+    @classmethod
+    def storing_ports(cls) -> list[Port]:
+        return [p for p in cls.physical_ports() if p.stores]
+
+    @classmethod
+    def scalar_states(cls) -> list[State]:
+        return [s for s in cls.states if s.size is None]
+
+    @classmethod
+    def derivative_names(cls) -> list[str]:
+        return (
+            [f"{THROUGH[p.kind][0]}_{p.name}" for p in cls.through_ports()]
+            + [f"{CAPACITY[p.kind][0]}_{p.name}" for p in cls.storing_ports()]
+            + [f"der_{s.name}" for s in cls.scalar_states()]
+        )
+
+    @classmethod
+    def feedthrough(cls) -> list[str]:
+        """Signal inputs and physical ports that the outputs read directly (from the signature)."""
+        if cls.outputs is None:
+            return []
+        args = argument_names(cls.outputs)
+        return [p.name for p in cls.ports if p.name in args and p.direction != "out"]
+
+    @classmethod
+    def check_values(cls, values: dict) -> str | None:
+        """Checks across parameters (a table's lengths, a lower limit below the upper): None if the
+        values fit together, else what is wrong. Runs when parameter values are evaluated, not per step."""
+        return None
+
+    @classmethod
+    def param(cls, name: str) -> Param:
+        for p in cls.params:
+            if p.name == name:
+                return p
+        raise KeyError(name)
+
+    @classmethod
+    def summary(cls) -> str:
+        doc = inspect.getdoc(cls) or ""
+        return doc.splitlines()[0] if doc else ""
+
+
+def argument_names(function: Callable) -> list[str]:
+    return list(inspect.signature(function).parameters)
+
+
+@dataclass
+class Declared:
+    """Names an equation function may take, by category (used to validate a block at registration)."""
+
+    names: dict[str, str] = field(default_factory=dict)
+
+    def add(self, name: str, category: str, owner: str) -> None:
+        if name in self.names:
+            raise TypeError(f"{owner}: '{name}' is declared as both {self.names[name]} and {category}")
+        self.names[name] = category
+
+
+def check_declarations(cls: type[Block]) -> None:
+    """Raise TypeError if a block's declarations and equation functions disagree."""
+    owner = cls.__name__
+    if not (cls.__doc__ and cls.__doc__.strip()):
+        raise TypeError(f"{owner}: a block needs a docstring with its equation")
+    declared = Declared()
+    declared.add("t", "time", owner)
+    for p in cls.ports:
+        declared.add(p.name, f"{p.kind.value} port", owner)
+    for p in cls.params:
+        declared.add(p.name, "parameter", owner)
+    for s in cls.states:
+        declared.add(s.name, "state", owner)
+        if s.size is not None:
+            declared.add(f"der_{s.name}", "state derivative", owner)
+    for name in cls.prescribes:
+        if name not in {p.name for p in cls.physical_ports()}:
+            raise TypeError(f"{owner}: prescribes unknown physical port '{name}'")
+    if cls.output_names() and cls.outputs is None:
+        raise TypeError(f"{owner}: has outputs {cls.output_names()} but no outputs() function")
+    if (cls.derivative_names() or len(cls.scalar_states()) < len(cls.states)) and cls.derivatives is None:
+        raise TypeError(f"{owner}: has {cls.derivative_names()} to compute but no derivatives() function")
+    for fn_name in ("outputs", "derivatives", "ratio"):
+        fn = getattr(cls, fn_name)
+        if fn is None:
+            continue
+        for arg in argument_names(fn):
+            if arg not in declared.names:
+                raise TypeError(f"{owner}.{fn_name}: argument '{arg}' is not a declared port, parameter or state")
+    if cls.rigid_link is not None:
+        if cls.ratio is None:
+            raise TypeError(f"{owner}: a rigid link needs a ratio(...) function of parameters")
+        if any(arg not in {p.name for p in cls.params} for arg in argument_names(cls.ratio)):
+            raise TypeError(f"{owner}.ratio may take parameters only")
+    for p in cls.params:
+        if p.default is not None and p.fluid is None:
+            problem = p.check(p.default)
+            if problem:
+                raise TypeError(f"{owner}: default out of bounds: {problem}")

@@ -1,0 +1,242 @@
+"""A compiled circuit: built once per netlist structure, evaluated for any parameter vector.
+
+    circuit = Circuit.from_file("netlists/examples/drive_line.yaml")
+    result = circuit.simulate({"ctrl.Kp": 4.0, "m_load": 15000.0})
+
+The path is one straight line: YAML -> pydantic spec -> flat circuit (:mod:`blocks.netlist.flatten`) ->
+structure and order (:mod:`blocks.compiler.structure`) -> generated, numba-compiled rhs
+(:mod:`blocks.compiler.codegen`) + parameter vector -> stiff solver (:mod:`blocks.solve`) ->
+:class:`~blocks.result.Result`. Optimisers and calibrators call :meth:`Circuit.simulate` with overrides
+(named values in SI) and read the result; they never touch the solver or the blocks.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import time
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from blocks.compiler.codegen import Generator, OutputExpr
+from blocks.compiler.structure import Structure, analyse, jacobian_pattern
+from blocks.errors import NetlistError, SimulationError
+from blocks.netlist.flatten import FlatCircuit, flatten
+from blocks.result import Result
+from blocks.solve.settings import SolverSettings, read_settings
+from blocks.units import UnitError, parse_unit
+
+
+def cache_dir() -> Path:
+    """Where generated modules and numba's compiled code are kept (``VPHS_CACHE_DIR`` overrides)."""
+    env = os.environ.get("VPHS_CACHE_DIR")
+    if env:
+        return Path(env)
+    base = os.environ.get("XDG_CACHE_HOME") or str(Path.home() / ".cache")
+    return Path(base) / "vphs"
+
+
+@dataclass
+class Vectors:
+    theta: np.ndarray
+    x0: np.ndarray
+    values: dict
+
+
+class Circuit:
+    """A netlist compiled to a right-hand side over flat state and parameter vectors."""
+
+    def __init__(self, flat: FlatCircuit, quiet: bool = True):
+        self.flat = flat
+        self.structure: Structure = analyse(flat)
+        self.generator = Generator(self.structure)
+        self.outputs = self._resolve_outputs()
+        self.settings: SolverSettings = read_settings(flat)
+        self.pattern = jacobian_pattern(self.structure)
+        self.groups, self.n_groups = _colour_columns(self.pattern)
+        source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs])
+        from blocks.solve.template import build_module
+
+        self.module = build_module(source, cache_dir(), Path(flat.file).stem)
+        self._compiled = False
+        self._quiet = quiet
+
+    @classmethod
+    def from_file(cls, file: str | Path, quiet: bool = True) -> "Circuit":
+        return cls(flatten(file), quiet=quiet)
+
+    # ---- parameters -----------------------------------------------------------------------------------
+    @property
+    def parameter_names(self) -> list[str]:
+        return list(self.flat.parameters.entries)
+
+    def vectors(self, overrides: dict[str, float] | None = None) -> Vectors:
+        """Evaluate the parameter table (with ``overrides``) into theta and the initial state x0."""
+        st = self.structure
+        values = self.flat.parameters.evaluate(overrides)
+        theta = np.empty(st.theta_size)
+        for name, (a, b) in st.theta_index.items():
+            theta[a:b] = values[name]
+        for net in st.net_state:
+            if f"{net}.volume" in values and values[f"{net}.volume"] <= 0:
+                entry = self.flat.parameters.entries[f"{net}.volume"]
+                raise entry.error(f"net '{net}': volume must be positive, got {values[f'{net}.volume']:g} m^3")
+        for comp_name, comp in self.flat.components.items():
+            problem = comp.cls.check_values({p.name: values[f"{comp_name}.{p.name}"] for p in comp.cls.params})
+            if problem:
+                raise comp.source.error(comp.path + ("params",), f"{comp_name}: {problem}")
+        x0 = np.zeros(st.n_states)
+        for net, slot in st.net_state.items():
+            x0[slot.index] = values.get(f"{net}.initial", 0.0)
+        for body in st.bodies:
+            if body.state is None:
+                continue
+            for net in body.members:
+                if f"{net}.initial" in values:
+                    x0[body.state.index] = values[f"{net}.initial"] / self._ratio_value(body, net, values)
+                    break
+        for comp, slots in st.block_states.items():
+            cls = self.flat.components[comp].cls
+            for state in cls.states:
+                slot = slots[state.name]
+                x0[slot.index:slot.index + slot.size] = values.get(f"{comp}.initial.{state.name}", state.start)
+        return Vectors(theta, x0, values)
+
+    def _ratio_value(self, body, net, values) -> float:
+        ratio = 1.0
+        while True:
+            parent, link, forward = body.members[net]
+            if parent is None:
+                return ratio
+            cls = self.flat.components[link].cls
+            from blocks.block import argument_names
+
+            r = cls.ratio(**{a: values[f"{link}.{a}"] for a in argument_names(cls.ratio)})
+            ratio = ratio * r if forward else ratio / r
+            net = parent
+
+    # ---- simulation -----------------------------------------------------------------------------------
+    def simulate(self, overrides: dict[str, float] | None = None, settings: SolverSettings | None = None) -> Result:
+        """Run the circuit; raise :class:`SimulationError` if the solver fails."""
+        settings = settings or self.settings
+        vec = self.vectors(overrides)
+        if not self._compiled and not self._quiet:
+            print("compiling the circuit (first run of this structure; cached afterwards)...", file=sys.stderr, flush=True)
+        from blocks.solve.run import solve
+
+        started = time.perf_counter()
+        outcome = solve(self, vec, settings)
+        self._compiled = True
+        elapsed = time.perf_counter() - started
+        result = Result(
+            file=self.flat.file,
+            t=outcome.t,
+            names=[o.name for o in self.outputs],
+            units=[o.unit for o in self.outputs],
+            display_units=[o.display_unit for o in self.outputs],
+            values=outcome.Y,
+            states=outcome.X,
+            state_names=[s.name for s in self.structure.states for _ in range(s.size)],
+            stats=outcome.stats,
+            seconds=elapsed,
+            warnings=self._cavitation(outcome, vec),
+        )
+        if outcome.status != 0:
+            raise SimulationError(self._failure_message(outcome), ) from None
+        return result
+
+    def _cavitation(self, outcome, vec: Vectors) -> list[str]:
+        p_vap = vec.values["fluid.vapour_pressure"]
+        found = []
+        for net, slot in self.structure.net_state.items():
+            low = outcome.x_min[slot.index]
+            if low < p_vap:
+                column = outcome.X[:, slot.index]
+                below = np.nonzero(column < p_vap)[0]
+                when = f" first seen at t = {outcome.t[below[0]]:.4g} s" if below.size else " between output samples"
+                found.append(f"cavitation: net '{net}' fell to {low / 1e5:.3g} bar, below the vapour pressure "
+                             f"{p_vap / 1e5:.3g} bar,{when}")
+        return found
+
+    def _failure_message(self, outcome) -> str:
+        why = {1: "the step size fell below its minimum", 2: "the maximum number of steps was reached",
+               3: "a state or derivative became NaN or infinite"}.get(outcome.status, f"status {outcome.status}")
+        msg = f"{self.flat.file}: the solver failed at t = {outcome.t_reached:.6g} s: {why}"
+        if outcome.bad_index >= 0:
+            slot = next(s for s in self.structure.states if s.index <= outcome.bad_index < s.index + s.size)
+            owners = self._owners(slot)
+            value = outcome.x_end[outcome.bad_index] if outcome.x_end is not None else float("nan")
+            msg += f"; state {slot.name} = {value:.4g} {slot.unit} ({owners})"
+        finite = outcome.x_end is not None and np.all(np.isfinite(outcome.x_end))
+        if outcome.x_end is not None and not finite:
+            bad = [s.name for s in self.structure.states
+                   if not np.all(np.isfinite(outcome.x_end[s.index:s.index + s.size]))]
+            msg += f"; non-finite states: {', '.join(bad[:8])}"
+        return msg
+
+    def _owners(self, slot) -> str:
+        if slot.kind == "block":
+            return f"block {slot.owner}"
+        ports = self.flat.nets[slot.owner].ports
+        blocks = sorted({c for c, _ in ports})
+        return f"net {slot.owner}, joining {', '.join(blocks)}"
+
+    # ---- logged signals -------------------------------------------------------------------------------
+    def _resolve_outputs(self) -> list["ResolvedOutput"]:
+        resolved = []
+        names = set()
+        for out in self.flat.outputs:
+            try:
+                expr, unit = self.generator.resolve_output(out.of)
+            except KeyError as exc:
+                raise out.source.error(out.path, f"output '{out.name}': {exc.args[0]}") from None
+            display = out.unit or unit
+            try:
+                generic = unit in ("1", "")  # generic signal blocks carry SI values of any unit
+                if not generic and not parse_unit(display).same_dimension(parse_unit(unit)):
+                    raise out.source.error(out.path, f"output '{out.name}': unit '{display}' does not fit "
+                                           f"{out.of}, which is in {unit}")
+            except UnitError as exc:
+                raise out.source.error(out.path, f"output '{out.name}': {exc}") from None
+            names.add(out.name)
+            resolved.append(ResolvedOutput(out.name, expr, unit, display))
+        if not resolved:
+            resolved = self._default_outputs()
+        return resolved
+
+    def _default_outputs(self) -> list["ResolvedOutput"]:
+        """With no outputs: section, log every net's across variable (pressures in bar)."""
+        out = []
+        for net in self.flat.nets.values():
+            expr, unit = self.generator.resolve_output(net.name)
+            display = "bar" if unit == "Pa" else unit
+            out.append(ResolvedOutput(net.name, expr, unit, display))
+        return out
+
+
+@dataclass
+class ResolvedOutput:
+    name: str
+    expr: str
+    unit: str
+    display_unit: str
+
+
+def _colour_columns(pattern: np.ndarray) -> tuple[np.ndarray, int]:
+    """Group Jacobian columns whose row patterns do not overlap (one rhs call per group)."""
+    n = pattern.shape[0]
+    groups = np.full(n, -1, dtype=np.int64)
+    rows_of_group: list[np.ndarray] = []
+    for j in range(n):
+        col = pattern[:, j]
+        for g, rows in enumerate(rows_of_group):
+            if not np.any(rows & col):
+                groups[j] = g
+                rows_of_group[g] = rows | col
+                break
+        else:
+            groups[j] = len(rows_of_group)
+            rows_of_group.append(col.copy())
+    return groups, len(rows_of_group)

@@ -1,0 +1,264 @@
+"""Generate the circuit's right-hand side as Python source that numba compiles once and caches on disk.
+
+The generated module holds two functions over the flat vectors (x: states, th: parameters):
+
+- ``rhs(t, x, th, dx)``: across variables from the states, then every block's ``outputs`` in the
+  evaluation order (signals, prescribed pressures and speeds), then every block's ``derivatives``,
+  summed per node: dp/dt = beta/(V_net + sum V_port) * sum q for a hydraulic node, and
+  dw/dt = sum(r_k*tau_k) / sum(r_k^2*J_k) for a rigid body.
+- ``observe(t, x, th, y)``: the same first two steps, then the logged signals.
+
+Block equations are called as numba functions with scalar arguments and inline into straight-line code,
+so a step costs what a hand-written compiled function would, not a Python loop over blocks.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import inspect
+from dataclasses import dataclass
+from pathlib import Path
+
+from blocks.block import ACROSS, PortKind
+from blocks.compiler.structure import Structure, bulk_modulus_name
+
+
+@dataclass
+class OutputExpr:
+    name: str
+    expr: str
+    unit: str  # SI unit of the value
+
+
+class Generator:
+    def __init__(self, st: Structure):
+        self.st = st
+        self.comp_index = {name: i for i, name in enumerate(st.circuit.components)}
+        self.net_index = {name: j for j, name in enumerate(st.circuit.nets)}
+        self.classes: dict[type, int] = {}
+        for comp in st.circuit.components.values():
+            self.classes.setdefault(comp.cls, len(self.classes))
+
+    # ---- names of generated variables ------------------------------------------------------------------
+    def across(self, net: str) -> str:
+        return f"v_n{self.net_index[net]}"
+
+    def ratio(self, net: str) -> str:
+        return f"r_n{self.net_index[net]}"
+
+    def out_var(self, comp: str, port: str) -> str:
+        names = self.st.circuit.components[comp].cls.output_names()
+        return f"y{self.comp_index[comp]}_{names.index(port)}"
+
+    def theta(self, name: str) -> str:
+        a, b = self.st.theta_index[name]
+        return f"th[{a}]" if b == a + 1 and not self._is_array(name) else f"th[{a}:{b}]"
+
+    def _is_array(self, name: str) -> bool:
+        comp, _, pname = name.rpartition(".")
+        if comp in self.st.circuit.components:
+            try:
+                return self.st.circuit.components[comp].cls.param(pname).array
+            except KeyError:
+                return False
+        return False
+
+    def signal_value(self, comp: str, port: str) -> str:
+        src = self.st.driver.get((comp, port))
+        return "0.0" if src is None else self.out_var(*src)
+
+    def arg(self, comp: str, name: str) -> str:
+        cls = self.st.circuit.components[comp].cls
+        if name == "t":
+            return "t"
+        slots = self.st.block_states[comp]
+        if name in slots:
+            slot = slots[name]
+            return f"x[{slot.index}]" if cls_state_scalar(cls, name) else f"x[{slot.index}:{slot.index + slot.size}]"
+        if name.startswith("der_") and name[4:] in slots:
+            slot = slots[name[4:]]
+            return f"dx[{slot.index}:{slot.index + slot.size}]"
+        try:
+            port = cls.port(name)
+        except KeyError:
+            return self.theta(f"{comp}.{name}")
+        if port.kind is PortKind.SIGNAL:
+            return self.signal_value(comp, name)
+        return self.across(self.st.port_net[(comp, name)])
+
+    def call(self, comp: str, function: str) -> str:
+        cls = self.st.circuit.components[comp].cls
+        from blocks.block import argument_names
+
+        args = ", ".join(self.arg(comp, a) for a in argument_names(getattr(cls, function)))
+        prefix = {"outputs": "_o", "derivatives": "_d", "ratio": "_r"}[function]
+        return f"{prefix}{self.classes[cls]}({args})"
+
+    # ---- code ------------------------------------------------------------------------------------------
+    def header(self) -> list[str]:
+        lines = ["# block sources (their hashes make this file, and numba's cache, follow block edits):"]
+        for cls, k in self.classes.items():
+            module = inspect.getmodule(cls)
+            digest = hashlib.sha256(Path(module.__file__).read_bytes()).hexdigest()[:12]
+            lines.append(f"#   {module.__name__}.{cls.__name__} {digest}")
+            lines.append(f"from {module.__name__} import {cls.__name__} as _K{k}")
+            for fn, prefix in (("outputs", "_o"), ("derivatives", "_d"), ("ratio", "_r")):
+                if getattr(cls, fn) is not None:
+                    lines.append(f"{prefix}{k} = njit(_K{k}.{fn})")
+        helpers = sorted(self._helper_modules())
+        for name, digest in helpers:
+            lines.insert(1, f"#   helper {name} {digest}")
+        return lines
+
+    def _helper_modules(self) -> set[tuple[str, str]]:
+        """Modules of numba helpers the blocks call (flow laws...): their edits must change the hash too."""
+        found = set()
+        for cls in self.classes:
+            module = inspect.getmodule(cls)
+            for value in vars(module).values():
+                helper = inspect.getmodule(value) if callable(value) else None
+                if helper is not None and helper.__name__.startswith(("blocks.", "vphs_blocks.")) \
+                        and helper is not module and hasattr(helper, "__file__") and helper.__file__:
+                    if not helper.__name__.startswith(("blocks.block", "blocks.registry")):
+                        digest = hashlib.sha256(Path(helper.__file__).read_bytes()).hexdigest()[:12]
+                        found.add((helper.__name__, digest))
+        return found
+
+    def prelude(self) -> list[str]:
+        """Across variables and phase-1 outputs, shared by rhs and observe."""
+        st = self.st
+        lines = []
+        for net, slot in st.net_state.items():
+            lines.append(f"{self.across(net)} = x[{slot.index}]")
+        for body in st.bodies:
+            lines.append(f"{self.ratio(body.root)} = 1.0")
+            for net, (parent, link, forward) in body.members.items():
+                if parent is None:
+                    continue
+                op = "*" if forward else "/"
+                lines.append(f"{self.ratio(net)} = {self.ratio(parent)} {op} {self.call(link, 'ratio')}")
+            if body.state is not None:
+                for net in body.members:
+                    lines.append(f"{self.across(net)} = {self.ratio(net)} * x[{body.state.index}]")
+        for comp in st.order:
+            cls = st.circuit.components[comp].cls
+            names = [self.out_var(comp, n) for n in cls.output_names()]
+            lines.append(f"{', '.join(names)}, = {self.call(comp, 'outputs')}")
+            for port in cls.prescribes:
+                net = st.port_net[(comp, port)]
+                body = st.body_of.get(net)
+                if body is None:
+                    lines.append(f"{self.across(net)} = {self.out_var(comp, port)}")
+                else:  # a speed source drives the whole rigid body
+                    root_speed = f"({self.out_var(comp, port)} / {self.ratio(net)})"
+                    for member in body.members:
+                        lines.append(f"{self.across(member)} = {self.ratio(member)} * {root_speed}")
+        return lines
+
+    def rhs(self) -> list[str]:
+        st = self.st
+        lines = self.prelude()
+        for net in st.net_state:
+            j = self.net_index[net]
+            volume = self.theta(f"{net}.volume") if f"{net}.volume" in st.theta_index else "0.0"
+            lines += [f"q_n{j} = 0.0", f"V_n{j} = {volume}"]
+        for k, body in enumerate(st.bodies):
+            if body.state is not None:
+                lines += [f"F_b{k} = 0.0", f"M_b{k} = 0.0"]
+        body_index = {id(b): k for k, b in enumerate(st.bodies)}
+        for comp, flat in st.circuit.components.items():
+            cls = flat.cls
+            if cls.derivatives is None:
+                continue
+            i = self.comp_index[comp]
+            names = cls.derivative_names()
+            temps = [f"d{i}_{k}" for k in range(len(names))]
+            call = self.call(comp, "derivatives")
+            if not names:
+                lines.append(call)
+                continue
+            lines.append(f"{', '.join(temps)}, = {call}")
+            k = 0
+            for port in cls.through_ports():
+                lines += self._deliver(comp, port, temps[k], capacity=False, body_index=body_index)
+                k += 1
+            for port in cls.storing_ports():
+                lines += self._deliver(comp, port, temps[k], capacity=True, body_index=body_index)
+                k += 1
+            for state in cls.scalar_states():
+                lines.append(f"dx[{st.block_states[comp][state.name].index}] = {temps[k]}")
+                k += 1
+        for net, slot in st.net_state.items():
+            j = self.net_index[net]
+            lines.append(f"dx[{slot.index}] = {self.theta(bulk_modulus_name(st, net))} / V_n{j} * q_n{j}")
+        for k, body in enumerate(st.bodies):
+            if body.state is not None:
+                lines.append(f"dx[{body.state.index}] = F_b{k} / M_b{k}")
+        return lines
+
+    def _deliver(self, comp, port, temp, capacity, body_index) -> list[str]:
+        st = self.st
+        net = st.port_net[(comp, port.name)]
+        if port.kind is PortKind.HYDRAULIC:
+            if net not in st.net_state:
+                return []  # a prescribed pressure takes whatever flows
+            j = self.net_index[net]
+            return [f"{'V' if capacity else 'q'}_n{j} += {temp}"]
+        body = st.body_of[net]
+        if body.state is None:
+            return []
+        k = body_index[id(body)]
+        r = self.ratio(net)
+        return [f"M_b{k} += {r} * {r} * {temp}"] if capacity else [f"F_b{k} += {r} * {temp}"]
+
+    def source(self, outputs: list[OutputExpr]) -> str:
+        body = "\n".join("    " + line for line in self.rhs()) or "    pass"
+        obs = self.prelude() + [f"y[{m}] = {o.expr}" for m, o in enumerate(outputs)]
+        obs_body = "\n".join("    " + line for line in obs) or "    pass"
+        return "\n".join(self.header()) + f"""
+
+
+@njit(cache=True)
+def rhs(t, x, th, dx):
+{body}
+
+
+@njit(cache=True)
+def observe(t, x, th, y):
+{obs_body}
+"""
+
+    # ---- logged signals --------------------------------------------------------------------------------
+    def resolve_output(self, ref: str) -> tuple[str, str]:
+        """'A' (a net), 'sensor.y' (a port) or 'valve.x' (a state) -> (expression, SI unit)."""
+        st = self.st
+        if ref in st.circuit.nets:
+            net = st.circuit.nets[ref]
+            if net.kind is PortKind.SIGNAL:
+                comp, port = next((c, p) for c, p in net.ports
+                                  if st.circuit.components[c].cls.port(p).direction == "out")
+                return self.out_var(comp, port), st.circuit.components[comp].cls.port(port).unit
+            return self.across(ref), ACROSS[net.kind][1]
+        comp, _, name = ref.rpartition(".")
+        if comp not in st.circuit.components:
+            raise KeyError(f"'{ref}' is neither a net nor <component>.<port or state>")
+        cls = st.circuit.components[comp].cls
+        if name in st.block_states[comp]:
+            slot = st.block_states[comp][name]
+            if slot.size != 1:
+                raise KeyError(f"'{ref}' is an array state; log one of its elements through a block output")
+            return f"x[{slot.index}]", slot.unit
+        try:
+            port = cls.port(name)
+        except KeyError:
+            choices = [p.name for p in cls.ports] + [s.name for s in cls.states]
+            raise KeyError(f"'{ref}': {cls.type_name} has no port or state '{name}' (has: {', '.join(choices)})") from None
+        if port.kind is PortKind.SIGNAL:
+            if port.direction == "out":
+                return self.out_var(comp, name), port.unit
+            return self.signal_value(comp, name), port.unit
+        return self.across(st.port_net[(comp, name)]), ACROSS[port.kind][1]
+
+
+def cls_state_scalar(cls, name: str) -> bool:
+    return any(s.name == name and s.size is None for s in cls.states)

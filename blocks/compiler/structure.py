@@ -1,0 +1,325 @@
+"""The structure of a flat circuit: its state vector, its parameter vector and its evaluation order.
+
+- Hydraulic net -> one pressure state (dp/dt = beta/V * sum q), unless a source prescribes its pressure.
+- Rotational and translational nets joined by rigid links (gears, rack and pinion) form one rigid body
+  with one speed state w of its root net; net k moves at r_k * w, its inertia counts r_k^2 * J_k, its
+  torques r_k * tau_k (virtual power). A speed source on any net of the body prescribes it instead.
+- Each block's own states follow.
+- The direct-feedthrough graph (networkx) has an edge from a block to every block whose outputs read
+  what it produces (a signal, or a prescribed across value); a cycle is an algebraic loop, reported by
+  the names of the blocks in it.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import networkx as nx
+
+from blocks.block import ACROSS, CAPACITY, Block, PortKind
+from blocks.netlist.flatten import FlatCircuit, FlatComponent, FlatNet
+from blocks.netlist.parameters import make_entry
+
+PHYSICAL_STATE_NOMINAL = {PortKind.HYDRAULIC: 1e5, PortKind.ROTATIONAL: 1.0, PortKind.TRANSLATIONAL: 0.1}
+
+
+@dataclass
+class StateSlot:
+    """Where one state (or array state) lives in x, and who owns it."""
+
+    name: str  # "A.p", "shaft.w", "valve.x"
+    index: int
+    size: int
+    unit: str
+    nominal: float
+    owner: str  # the net or component name
+    kind: str  # "pressure", "speed", "block"
+
+
+@dataclass
+class RigidBody:
+    """Mechanical nets moving together. ``members``: net -> (parent net, link component, forward?)."""
+
+    root: str
+    kind: PortKind
+    members: dict[str, tuple[str | None, str | None, bool]]
+    prescribed_by: tuple[str, str] | None = None  # (component, port)
+    state: StateSlot | None = None
+
+
+@dataclass
+class Structure:
+    circuit: FlatCircuit
+    states: list[StateSlot] = field(default_factory=list)
+    net_state: dict[str, StateSlot] = field(default_factory=dict)  # hydraulic nets with a pressure state
+    prescribed: dict[str, tuple[str, str]] = field(default_factory=dict)  # net -> (component, port)
+    bodies: list[RigidBody] = field(default_factory=list)
+    body_of: dict[str, RigidBody] = field(default_factory=dict)
+    block_states: dict[str, dict[str, StateSlot]] = field(default_factory=dict)
+    theta_index: dict[str, tuple[int, int]] = field(default_factory=dict)  # entry name -> (start, stop)
+    theta_size: int = 0
+    order: list[str] = field(default_factory=list)  # blocks with outputs, in evaluation order
+    driver: dict[tuple[str, str], tuple[str, str]] = field(default_factory=dict)  # input -> driving output
+    port_net: dict[tuple[str, str], str] = field(default_factory=dict)
+
+    @property
+    def n_states(self) -> int:
+        return sum(s.size for s in self.states)
+
+
+def analyse(circuit: FlatCircuit) -> Structure:
+    """Lay out states and parameters and order the blocks; raise NetlistError on structural faults."""
+    st = Structure(circuit)
+    for net in circuit.nets.values():
+        for comp, port in net.ports:
+            st.port_net[(comp, port)] = net.name
+    _find_prescribed(st)
+    _signal_drivers(st)
+    _rigid_bodies(st)
+    _hydraulic_states(st)
+    for body in st.bodies:
+        if body.prescribed_by is None:
+            _check_inertia(st, body)
+            body.state = _add_state(st, f"{body.root}.{ACROSS[body.kind][0]}", 1, ACROSS[body.kind][1],
+                                    PHYSICAL_STATE_NOMINAL[body.kind], body.root, "speed")
+    for name, comp in circuit.components.items():
+        slots = {}
+        for state in comp.cls.states:
+            size = 1 if state.size is None else int(state.size(comp.array_lengths))
+            slots[state.name] = _add_state(st, f"{name}.{state.name}", size, state.unit, state.nominal, name, "block")
+        st.block_states[name] = slots
+    _theta_layout(st)
+    st.order = _evaluation_order(st)
+    return st
+
+
+def _add_state(st: Structure, name, size, unit, nominal, owner, kind) -> StateSlot:
+    slot = StateSlot(name, st.n_states, size, unit, nominal, owner, kind)
+    st.states.append(slot)
+    return slot
+
+
+def _find_prescribed(st: Structure) -> None:
+    for name, comp in st.circuit.components.items():
+        for port in comp.cls.prescribes:
+            net = st.port_net[(name, port)]
+            if net in st.prescribed:
+                other = st.prescribed[net][0]
+                raise comp.source.error(comp.path, f"net '{net}' is prescribed by two sources: {other} and {name}")
+            st.prescribed[net] = (name, port)
+
+
+def _signal_drivers(st: Structure) -> None:
+    for net in st.circuit.nets.values():
+        if net.kind is not PortKind.SIGNAL:
+            continue
+        outs = [(c, p) for c, p in net.ports if st.circuit.components[c].cls.port(p).direction == "out"]
+        ins = [(c, p) for c, p in net.ports if st.circuit.components[c].cls.port(p).direction == "in"]
+        if not outs:
+            raise net.source.error(net.path, f"signal net '{net.name}' has no driving output "
+                                   f"(it joins only inputs: {', '.join(f'{c}.{p}' for c, p in ins)})")
+        if len(outs) > 1:
+            raise net.source.error(net.path, f"signal net '{net.name}' is driven by two outputs: "
+                                   f"{outs[0][0]}.{outs[0][1]} and {outs[1][0]}.{outs[1][1]}")
+        for target in ins:
+            st.driver[target] = outs[0]
+
+
+def _rigid_bodies(st: Structure) -> None:
+    mech = [n for n in st.circuit.nets.values() if n.kind in (PortKind.ROTATIONAL, PortKind.TRANSLATIONAL)]
+    links = nx.MultiGraph()
+    links.add_nodes_from(n.name for n in mech)
+    for name, comp in st.circuit.components.items():
+        if comp.cls.rigid_link is not None:
+            a, b = comp.cls.rigid_link
+            links.add_edge(st.port_net[(name, a)], st.port_net[(name, b)], link=name)
+    for nodes in nx.connected_components(links):
+        sub = links.subgraph(nodes)
+        if sub.number_of_edges() >= sub.number_of_nodes():
+            names = sorted({d["link"] for _, _, d in sub.edges(data=True)})
+            comp = st.circuit.components[names[0]]
+            raise comp.source.error(comp.path, f"rigid links {', '.join(names)} form a closed loop "
+                                    f"(over-constrained); break it with a compliant coupling")
+        prescribing = [n for n in nodes if n in st.prescribed]
+        if len(prescribing) > 1:
+            comp = st.circuit.components[st.prescribed[prescribing[1]][0]]
+            raise comp.source.error(comp.path, f"nets {', '.join(sorted(prescribing))} move rigidly together "
+                                    f"but are prescribed by two sources")
+        root = prescribing[0] if prescribing else sorted(nodes, key=lambda n: (n.count("."), n))[0]
+        members: dict[str, tuple[str | None, str | None, bool]] = {root: (None, None, True)}
+        for parent, child in nx.bfs_edges(sub, root):
+            data = next(iter(sub.get_edge_data(parent, child).values()))
+            comp = data["link"]
+            a, _ = st.circuit.components[comp].cls.rigid_link
+            forward = st.port_net[(comp, a)] == parent  # w_child = ratio * w_parent
+            members[child] = (parent, comp, forward)
+        kind = st.circuit.nets[root].kind
+        body = RigidBody(root, kind, members, st.prescribed.get(root))
+        st.bodies.append(body)
+        for n in nodes:
+            st.body_of[n] = body
+
+
+def _check_inertia(st: Structure, body: RigidBody) -> None:
+    for net in body.members:
+        for comp, port in st.circuit.nets[net].ports:
+            if st.circuit.components[comp].cls.port(port).stores:
+                return
+    net = st.circuit.nets[body.root]
+    what = CAPACITY[body.kind][0]
+    raise net.source.error(net.path, f"{body.kind.value} net '{body.root}' has no inertia: attach a block that "
+                           f"stores {'inertia' if what == 'J' else 'mass'} (e.g. {'inertia' if what == 'J' else 'mass'})")
+
+
+def _hydraulic_states(st: Structure) -> None:
+    circuit = st.circuit
+    default_volume = circuit.netlist.defaults.volume
+    for net in circuit.nets.values():
+        if net.kind is not PortKind.HYDRAULIC or net.name in st.prescribed:
+            continue
+        stores = any(circuit.components[c].cls.port(p).stores for c, p in net.ports)
+        if not net.has_volume and not stores:
+            if default_volume is None:
+                raise net.source.error(net.path, f"hydraulic net '{net.name}' has no volume: give it volume:, "
+                                       f"attach a volume component, or set defaults: volume: in the netlist")
+            circuit.parameters.add(make_entry(f"{net.name}.volume", default_volume, "m^3", {}, circuit.source,
+                                              ("defaults", "volume")))
+            net.has_volume = True
+        slot = _add_state(st, f"{net.name}.p", 1, "Pa", PHYSICAL_STATE_NOMINAL[PortKind.HYDRAULIC], net.name,
+                          "pressure")
+        st.net_state[net.name] = slot
+
+
+def _theta_layout(st: Structure) -> None:
+    """Every parameter-table entry the equations read gets a slice of theta."""
+    entries = st.circuit.parameters.entries
+    values = st.circuit.parameters.evaluate()  # also checks every default once
+    names = ["fluid.beta"]
+    for name, comp in st.circuit.components.items():
+        names += [f"{name}.{p.name}" for p in comp.cls.params]
+    for net in st.net_state:
+        names += [n for n in (f"{net}.volume", f"{net}.bulk_modulus") if n in entries]
+    offset = 0
+    for name in names:
+        value = values[name]
+        size = len(value) if isinstance(value, tuple) else 1
+        st.theta_index[name] = (offset, offset + size)
+        offset += size
+    st.theta_size = offset
+
+
+def bulk_modulus_name(st: Structure, net: str) -> str:
+    name = f"{net}.bulk_modulus"
+    return name if name in st.theta_index else "fluid.beta"
+
+
+def block_reads(st: Structure, name: str, function: str) -> list[str]:
+    from blocks.block import argument_names
+
+    fn = getattr(st.circuit.components[name].cls, function)
+    return [] if fn is None else argument_names(fn)
+
+
+def _evaluation_order(st: Structure) -> list[str]:
+    """Blocks that have outputs, ordered so that every output is computed before it is read."""
+    graph = nx.DiGraph()
+    producers = {}
+    for name, comp in st.circuit.components.items():
+        if comp.cls.outputs is not None:
+            graph.add_node(name)
+    for net, (comp, _) in st.prescribed.items():
+        producers[net] = comp
+    for name, comp in st.circuit.components.items():
+        if comp.cls.outputs is None:
+            continue
+        for arg in comp.cls.feedthrough():
+            port = comp.cls.port(arg)
+            if port.kind is PortKind.SIGNAL:
+                src = st.driver.get((name, arg))
+                if src is not None:
+                    graph.add_edge(src[0], name)
+            else:
+                net = st.port_net[(name, arg)]
+                body = st.body_of.get(net)
+                source_net = body.root if body is not None else net
+                if source_net in producers:
+                    graph.add_edge(producers[source_net], name)
+    try:
+        cycle = nx.find_cycle(graph)
+    except nx.NetworkXNoCycle:
+        return list(nx.lexicographical_topological_sort(graph))
+    blocks_in_loop = [edge[0] for edge in cycle]
+    comp = st.circuit.components[blocks_in_loop[0]]
+    raise comp.source.error(comp.path, "algebraic loop through blocks " + " -> ".join(blocks_in_loop + blocks_in_loop[:1])
+                            + " (each reads the other's output directly; put a dynamic block in the loop)")
+
+
+def jacobian_pattern(st: Structure):
+    """Which state derivatives may depend on which states, from the netlist graph."""
+    import numpy as np
+
+    n = st.n_states
+    pattern = np.zeros((n, n), dtype=np.bool_)
+    reads_cache: dict[str, set[int]] = {}
+
+    def net_states(net: str) -> set[int]:
+        if net in st.net_state:
+            return {st.net_state[net].index}
+        body = st.body_of.get(net)
+        if body is not None and body.state is not None:
+            return {body.state.index}
+        if net in st.prescribed:
+            return output_reads(st.prescribed[net][0])
+        return set()
+
+    def own_states(name: str) -> set[int]:
+        return {i for slot in st.block_states[name].values() for i in range(slot.index, slot.index + slot.size)}
+
+    def port_reads(name: str, args) -> set[int]:
+        comp = st.circuit.components[name]
+        found: set[int] = set()
+        for arg in args:
+            if arg in st.block_states[name]:
+                found |= own_states(name)
+                continue
+            try:
+                port = comp.cls.port(arg)
+            except KeyError:
+                continue
+            if port.kind is PortKind.SIGNAL:
+                src = st.driver.get((name, arg))
+                if src is not None:
+                    found |= output_reads(src[0])
+            else:
+                found |= net_states(st.port_net[(name, arg)])
+        return found
+
+    def output_reads(name: str) -> set[int]:
+        if name not in reads_cache:
+            reads_cache[name] = set()  # guards recursion; the order is acyclic anyway
+            reads_cache[name] = port_reads(name, block_reads(st, name, "outputs"))
+        return reads_cache[name]
+
+    for name, comp in st.circuit.components.items():
+        if comp.cls.derivatives is None:
+            continue
+        reads = port_reads(name, block_reads(st, name, "derivatives"))
+        writes = own_states(name)
+        for port in comp.cls.through_ports() + comp.cls.storing_ports():
+            writes |= net_states(st.port_net[(name, port.name)]) if st.port_net[(name, port.name)] not in st.prescribed else set()
+        if comp.cls.storing_ports():
+            # a capacity divides the whole net balance: the net's derivative reads everything on the net
+            for port in comp.cls.storing_ports():
+                net = st.port_net[(name, port.name)]
+                for c, _ in st.circuit.nets[net].ports:
+                    reads |= port_reads(c, block_reads(st, c, "derivatives"))
+        for w in writes:
+            for r in reads:
+                pattern[w, r] = True
+    for body in st.bodies:
+        if body.state is not None:
+            i = body.state.index
+            pattern[i, i] = True
+    for slot in st.net_state.values():
+        pattern[slot.index, slot.index] = True
+    return pattern

@@ -1,0 +1,19 @@
+"""Hydraulic blocks. Each module registers one block."""
+
+from blocks.library.hydraulic import (  # noqa: F401
+    check_valve,
+    cylinder,
+    flow_sensor,
+    flow_source,
+    flow_source_signal,
+    hydraulic_motor,
+    laminar_orifice,
+    orifice,
+    pressure_sensor,
+    pressure_source,
+    relief_valve,
+    tank,
+    valve_4_3,
+    variable_orifice,
+    volume,
+)

@@ -1,0 +1,54 @@
+"""Double-acting hydraulic cylinder."""
+
+from blocks.block import Block, Param, State, hydraulic, translational
+from blocks.library.hydraulic.flow import smooth_step
+from blocks.registry import register
+
+
+@register("cylinder")
+class Cylinder(Block):
+    """Double-acting cylinder: chambers A (piston side) and B (rod side), piston position x with end stops.
+
+    V_A = V0_A + A_A*xc,  V_B = V0_B + A_B*(stroke - xc),  xc = min(max(x, 0), stroke)   [m^3]
+    q_A = -A_A*v,  q_B = +A_B*v                                                            [m^3/s]
+    f_rod = p_A*A_A - p_B*A_B + f_stop                                                     [N]
+    dx/dt = v
+
+    End stops outside [0, stroke]: with penetration d (= -x below 0, x - stroke above the stroke),
+    f_stop = +-(k_stop*d) - c_stop*v*smooth_step(d, 0, dx_stop), the spring pushing back into the
+    stroke and the damping faded in over the declared penetration dx_stop so the force stays continuous
+    at contact; f_stop = 0 inside the stroke.
+
+    Sign convention: x and v = rod velocity are positive when the rod extends (chamber A grows). The
+    chambers are the capacities this block stores on nets A and B; the flows are what the moving piston
+    delivers to them (extending draws oil into A and pushes it out of B). f_rod acts on the rod's net.
+    """
+
+    ports = (
+        hydraulic("A", "piston-side chamber", stores=True),
+        hydraulic("B", "rod-side chamber", stores=True),
+        translational("rod", "piston rod (v > 0 extends)"),
+    )
+    params = (
+        Param("A_A", "m^2", None, 0.0, 10.0, "piston-side effective area"),
+        Param("A_B", "m^2", None, 0.0, 10.0, "rod-side (annulus) effective area"),
+        Param("stroke", "m", None, 1e-6, 100.0, "stroke length"),
+        Param("V0_A", "m^3", None, 1e-12, 10.0, "dead volume of chamber A (at x = 0)"),
+        Param("V0_B", "m^3", None, 1e-12, 10.0, "dead volume of chamber B (at x = stroke)"),
+        Param("k_stop", "N/m", 1e8, 0.0, 1e13, "end-stop stiffness"),
+        Param("c_stop", "N*s/m", 1e5, 0.0, 1e10, "end-stop damping"),
+        Param("dx_stop", "m", 1e-4, 0.0, 1.0, "penetration over which the end-stop damping fades in (regularisation width)"),
+    )
+    states = (State("x", "m", 0.0, 0.1, "piston position from the retracted end"),)
+
+    @staticmethod
+    def derivatives(A, B, rod, x, A_A, A_B, stroke, V0_A, V0_B, k_stop, c_stop, dx_stop):
+        xc = min(max(x, 0.0), stroke)
+        f = A * A_A - B * A_B
+        if x < 0.0:
+            d = -x
+            f += k_stop * d - c_stop * rod * smooth_step(d, 0.0, dx_stop)
+        elif x > stroke:
+            d = x - stroke
+            f += -k_stop * d - c_stop * rod * smooth_step(d, 0.0, dx_stop)
+        return -A_A * rod, A_B * rod, f, V0_A + A_A * xc, V0_B + A_B * (stroke - xc), rod

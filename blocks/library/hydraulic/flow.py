@@ -1,0 +1,30 @@
+"""Flow laws shared by the hydraulic blocks (numba-compiled, callable from Python too)."""
+
+import math
+
+from numba import njit
+
+
+@njit(cache=True)
+def turbulent_flow(dp, area, cd, rho, dp_t):
+    """Turbulent orifice flow with a laminar transition, regularised at zero pressure drop.
+
+    q = Cd*A*sqrt(2/rho) * dp / (dp^2 + dp_t^2)^(1/4)   [m^3/s], dp = p_in - p_out [Pa]
+
+    For |dp| >> dp_t this is the square-root law q = Cd*A*sqrt(2|dp|/rho)*sign(dp); near zero it is
+    linear, q ~ Cd*A*sqrt(2/rho)*dp/sqrt(dp_t), so dq/ddp stays finite and the solver does not stall.
+    """
+    return cd * area * math.sqrt(2.0 / rho) * dp / math.sqrt(math.sqrt(dp * dp + dp_t * dp_t))
+
+
+@njit(cache=True)
+def smooth_step(x, x0, width):
+    """0 below x0, 1 above x0 + width, a C1 cubic (smoothstep) in between."""
+    if width <= 0.0:
+        return 1.0 if x >= x0 else 0.0
+    s = (x - x0) / width
+    if s <= 0.0:
+        return 0.0
+    if s >= 1.0:
+        return 1.0
+    return s * s * (3.0 - 2.0 * s)

@@ -1,0 +1,47 @@
+"""Fixed-displacement hydraulic motor."""
+
+import math
+
+from blocks.block import Block, Param, hydraulic, rotational
+from blocks.registry import register
+
+
+@register("hydraulic_motor")
+class HydraulicMotor(Block):
+    """Fixed-displacement hydraulic motor with laminar internal leakage; stores its own inertia.
+
+    q_m = D*w + G_leak*(p_a - p_b)          flow through the motor from a to b [m^3/s]
+    q_a = -q_m,  q_b = +q_m
+    tau_h = D*(p_a - p_b)                   hydraulic torque [N*m]
+    tau = tau_h - (1 - eta_hm)*|tau_h|*tanh(w/w_w)   torque on the shaft [N*m]
+    J_shaft = J_m                           inertia added to the shaft net [kg*m^2]
+
+    The second term is the motor's mechanical loss (thesis section 2.6): a Coulomb-like friction of
+    (1 - eta_hm) of the hydraulic torque's magnitude, opposing the motion, smoothed over the speed width
+    w_w. eta_hm = 1 (the default) is the lossless motor.
+
+    D is the displacement per radian [m^3/rad] (D = V_rev/(2*pi)). Sign convention: p_a > p_b drives the
+    shaft forward (w > 0), which draws oil from a and delivers it to b. Hydraulic power consumed by the
+    ideal part, (p_a - p_b)*D*w, equals the shaft power tau*w; the leakage dissipates G_leak*(p_a - p_b)^2.
+    """
+
+    ports = (
+        hydraulic("a", "inlet: higher pressure here drives the shaft forward"),
+        hydraulic("b", "outlet"),
+        rotational("shaft", "motor shaft", stores=True),
+    )
+    params = (
+        Param("D", "m^3/rad", None, 0.0, 1.0, "displacement per radian"),
+        Param("G_leak", "m^3/(s*Pa)", 0.0, 0.0, 1e-6, "internal leakage conductance (a -> b)"),
+        Param("J_m", "kg*m^2", None, 0.0, 1e6, "inertia of the rotating group, added to the shaft net"),
+        Param("eta_hm", "1", 1.0, 0.0, 1.0, "hydro-mechanical efficiency: friction (1 - eta_hm)*|tau_h|"),
+        Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
+    )
+
+    @staticmethod
+    def derivatives(a, b, shaft, D, G_leak, J_m, eta_hm, w_w):
+        dp = a - b
+        q = D * shaft + G_leak * dp
+        tau_h = D * dp
+        tau = tau_h - (1.0 - eta_hm) * abs(tau_h) * math.tanh(shaft / w_w)
+        return -q, q, tau, J_m

@@ -1,0 +1,20 @@
+"""Mechanical blocks (rotational and translational). Each module registers one block."""
+
+from blocks.library.mechanical import (  # noqa: F401
+    angle_sensor,
+    force_source,
+    gear,
+    inertia,
+    mass,
+    position_sensor,
+    rack_pinion,
+    rot_damper,
+    rot_friction,
+    speed_sensor,
+    speed_source,
+    torque_source,
+    trans_damper,
+    trans_friction,
+    velocity_sensor,
+    velocity_source,
+)

@@ -1,0 +1,35 @@
+"""Second-order high-pass filter."""
+
+from blocks.block import Block, Param, State, signal_in, signal_out
+from blocks.library.signal.linear import lowpass2_acceleration
+from blocks.registry import register
+
+
+@register("highpass2")
+class Highpass2(Block):
+    """Second-order high-pass filter: Y(s)/U(s) = s^2/(s^2 + 2*zeta*wn*s + wn^2).
+
+    Realised through the low-pass state (well scaled: x is in the unit of u whatever wn is):
+    d2x/dt2 + 2*zeta*wn*dx/dt + wn^2*x = wn^2*u,   y = u - x - (2*zeta/wn)*dx  (= (d2x/dt2)/wn^2)
+    since 1 - L(s) - (2*zeta/wn)*s*L(s) = s^2/(s^2 + 2*zeta*wn*s + wn^2) with L the low-pass.
+    States x and dx start at 0; direct feedthrough of u (a step passes straight through).
+    Units: wn in rad/s; u and y in one (SI) unit.
+    """
+
+    ports = (signal_in("u", "signal to filter"), signal_out("y", "high-passed signal"))
+    params = (
+        Param("wn", "rad/s", None, 1e-6, None, "corner (natural) angular frequency"),
+        Param("zeta", "1", 0.7071067811865476, 0.0, None, "damping ratio (1/sqrt(2): Butterworth)"),
+    )
+    states = (
+        State("x", "1", 0.0, 1.0, "low-pass part of the input"),
+        State("dx", "1/s", 0.0, 1.0, "time derivative of the low-pass part"),
+    )
+
+    @staticmethod
+    def outputs(u, x, dx, wn, zeta):
+        return (u - x - 2.0 * zeta / wn * dx,)
+
+    @staticmethod
+    def derivatives(u, x, dx, wn, zeta):
+        return dx, lowpass2_acceleration(u, x, dx, wn, zeta)

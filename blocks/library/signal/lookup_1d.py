@@ -1,0 +1,36 @@
+"""One-dimensional lookup table."""
+
+from blocks.block import Block, Param, signal_in, signal_out
+from blocks.library.signal.tables import check_breakpoints, check_length, interp1
+from blocks.registry import register
+
+
+@register("lookup_1d")
+class Lookup1D(Block):
+    """One-dimensional lookup table: y = f(u) interpolated linearly in (x_table, y_table).
+
+    y = y_table[i] + (y_table[i+1] - y_table[i])*(u - x_table[i])/(x_table[i+1] - x_table[i])
+    Outside [x_table[0], x_table[-1]]: extrapolate = 0 holds the end value, extrapolate = 1 extends the
+    end segment linearly. (The tables are named x_table/y_table because the output port is y.)
+
+    x_table must be strictly increasing and as long as y_table (checked by ``check_values``).
+    Units: u and x_table in one (SI) unit, y and y_table in another.
+    """
+
+    ports = (signal_in("u", "table input (abscissa)"), signal_out("y", "interpolated table value"))
+    params = (
+        Param("x_table", "1", None, None, None, "breakpoints, strictly increasing (SI)", array=True),
+        Param("y_table", "1", None, None, None, "table values at the breakpoints (SI)", array=True),
+        Param("extrapolate", "1", 0.0, 0.0, 1.0, "outside the table: 0 hold end value, 1 linear", integer=True),
+    )
+
+    @staticmethod
+    def outputs(u, x_table, y_table, extrapolate):
+        return (interp1(u, x_table, y_table, extrapolate > 0.5),)
+
+    @classmethod
+    def check_values(cls, values: dict) -> str | None:
+        """None if the parameter values fit together, else what is wrong (build time, not in the hot path)."""
+        return check_breakpoints("x_table", values["x_table"]) or check_length(
+            "y_table", values["y_table"], len(values["x_table"]), "one per entry of x_table"
+        )

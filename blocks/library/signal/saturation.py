@@ -1,0 +1,32 @@
+"""Saturation (hard limiter)."""
+
+from blocks.block import Block, Param, signal_in, signal_out
+from blocks.library.signal.linear import clamp
+from blocks.registry import register
+
+
+@register("saturation")
+class Saturation(Block):
+    """Saturation: the input limited to [lower, upper].
+
+    y = min(max(u, lower), upper)
+
+    lower <= upper is checked by ``check_values``. Units: u, y, lower and upper in the same (SI) unit.
+    """
+
+    ports = (signal_in("u", "input"), signal_out("y", "limited input"))
+    params = (
+        Param("lower", "1", None, None, None, "lower limit (SI)"),
+        Param("upper", "1", None, None, None, "upper limit (SI)"),
+    )
+
+    @staticmethod
+    def outputs(u, lower, upper):
+        return (clamp(u, lower, upper),)
+
+    @classmethod
+    def check_values(cls, values: dict) -> str | None:
+        """None if the parameter values fit together, else what is wrong (build time, not in the hot path)."""
+        if values["lower"] > values["upper"]:
+            return f"lower = {values['lower']:g} is above upper = {values['upper']:g}"
+        return None

@@ -1,0 +1,444 @@
+"""From a netlist file to a flat circuit: subsystems expanded, names qualified, nets resolved into nodes.
+
+Checks made here (each error names the file, line and column): unknown block type (with the nearest
+names), unknown or missing parameter, wrong unit, value out of bounds (when evaluated), unknown port,
+a port left unconnected or connected twice, ports of different kinds on one net, a signal net with no
+driver or two, duplicate names, a hydraulic node without a volume, a mechanical node without inertia,
+two sources prescribing one net, and subsystem files that include themselves.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pydantic import ValidationError
+
+from blocks import registry
+from blocks.block import Block, PortKind
+from blocks.errors import NetlistError
+from blocks.netlist import spec
+from blocks.netlist.parameters import Entry, ParameterTable, make_entry
+from blocks.netlist.yaml_source import Located, read_yaml
+from blocks.units import UnitError, nearest, parse_unit, quantity
+
+MAX_SUBSYSTEM_DEPTH = 8
+
+
+@dataclass
+class FlatComponent:
+    name: str
+    cls: type[Block]
+    source: Located
+    path: tuple
+    array_lengths: dict[str, int] = field(default_factory=dict)
+
+
+@dataclass
+class FlatNet:
+    name: str
+    kind: PortKind | None
+    ports: list[tuple[str, str]]  # (component, port)
+    source: Located
+    path: tuple
+    has_volume: bool = False  # a volume entry "<net>.volume" exists
+
+
+@dataclass
+class FlatOutput:
+    name: str
+    of: str
+    unit: str | None
+    source: Located
+    path: tuple
+
+
+@dataclass
+class FlatCircuit:
+    """Everything the compiler needs; names are qualified (``left.valve``)."""
+
+    file: str
+    netlist: spec.Netlist
+    source: Located
+    components: dict[str, FlatComponent]
+    nets: dict[str, FlatNet]
+    parameters: ParameterTable
+    outputs: list[FlatOutput]
+
+
+def load_netlist(file: str | Path) -> spec.Netlist:
+    """Parse and validate the shape of one netlist file (no subsystems, no meaning)."""
+    return _load_spec(read_yaml(file))
+
+
+def _load_spec(located: Located) -> spec.Netlist:
+    if not isinstance(located.data, dict):
+        raise located.error((), "a netlist must be a mapping with components:, nets:, ...")
+    try:
+        return spec.Netlist.model_validate(located.data)
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        path = _data_path(located.data, first["loc"])
+        where = ".".join(str(p) for p in path) or "netlist"
+        message = first["msg"]
+        if first["type"] == "extra_forbidden":
+            message = f"unknown key '{path[-1]}'" if path else "unknown key"
+            parent = _parent_model(path)
+            if parent is not None:
+                near = nearest(str(path[-1]), parent.model_fields)
+                message += f" (allowed: {', '.join(near or sorted(parent.model_fields))})"
+        elif first["type"] == "missing":
+            message = f"missing '{first['loc'][-1]}'"
+        raise located.error(path, f"{where}: {message}") from None
+
+
+def _data_path(data, loc) -> tuple:
+    """The part of a pydantic error location that indexes into the document (drops union tags)."""
+    path, node = [], data
+    for item in loc:
+        if isinstance(node, dict) and item in node:
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, list) and isinstance(item, int) and 0 <= item < len(node):
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, dict) and isinstance(item, str) and item not in node and item[:1].islower() \
+                and item not in ("str", "float", "int", "list", "function-after", "union"):
+            path.append(item)  # a key that should be there (missing) or is unknown
+            break
+    return tuple(path)
+
+
+def _parent_model(path: tuple):
+    models = {(): spec.Netlist, ("fluid",): spec.Fluid, ("defaults",): spec.Defaults,
+              ("simulation",): spec.Simulation}
+    if path[:-1] in models:
+        return models[path[:-1]]
+    if len(path) == 3 and path[0] == "components":
+        return spec.Component
+    if len(path) == 3 and path[0] == "subsystems":
+        return spec.Subsystem
+    if len(path) == 3 and path[0] == "nets":
+        return spec.Net
+    if len(path) == 3 and path[0] == "outputs":
+        return spec.Output
+    return None
+
+
+def flatten(file: str | Path) -> FlatCircuit:
+    """Read ``file`` and everything it includes into one :class:`FlatCircuit`."""
+    located = read_yaml(file)
+    netlist = _load_spec(located)
+    builder = _Builder()
+    builder.add_fluid(netlist, located)
+    builder.add_netlist(netlist, located, prefix="", overrides={}, override_scope={}, stack=(str(Path(file).resolve()),))
+    nets = builder.resolve_nets()
+    outputs = [
+        FlatOutput(name, out if isinstance(out, str) else out.of, None if isinstance(out, str) else out.unit,
+                   located, ("outputs", name))
+        for name, out in netlist.outputs.items()
+    ]
+    circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs)
+    builder.table.order()  # unknown names and cycles are reported now, not at the first evaluation
+    return circuit
+
+
+class _Builder:
+    def __init__(self) -> None:
+        self.components: dict[str, FlatComponent] = {}
+        self.table = ParameterTable()
+        self.raw_nets: list[tuple[str, spec.Net, Located, tuple]] = []
+        self.aliases: dict[str, str] = {}  # exposed subsystem port "left.P" -> internal ref
+        self.net_names: set[str] = set()
+        self.port_refs: list[tuple[str, str, Located, tuple]] = []
+
+    # ---- parameters ---------------------------------------------------------------------------------
+    def add_fluid(self, netlist: spec.Netlist, located: Located) -> None:
+        units = {"rho": "kg/m^3", "nu": "m^2/s", "beta": "Pa", "vapour_pressure": "Pa"}
+        for key, unit in units.items():
+            self.table.add(make_entry(f"fluid.{key}", getattr(netlist.fluid, key), unit, {}, located, ("fluid", key)))
+
+    def add_netlist(self, netlist: spec.Netlist, located: Located, prefix: str, overrides: dict,
+                    override_scope: dict, stack: tuple) -> None:
+        scope = {name: prefix + name for name in netlist.parameters}
+        scope.update({f"fluid_{k}": f"fluid.{k}" for k in ("rho", "nu", "beta")})
+        for name, raw in netlist.parameters.items():
+            if name in overrides:
+                raw_value, over_source, over_path = overrides[name]
+                self.table.add(make_entry(prefix + name, raw_value, None, override_scope, over_source, over_path))
+            else:
+                self.table.add(make_entry(prefix + name, raw, None, scope, located, ("parameters", name)))
+        for name in overrides:
+            if name not in netlist.parameters:
+                _, over_source, over_path = overrides[name]
+                hint = nearest(name, netlist.parameters)
+                raise over_source.error(over_path, f"'{name}' is not a parameter of {located.file}"
+                                        + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+        for name, comp in netlist.components.items():
+            self._add_component(prefix, name, comp, located, scope)
+        for name, sub in netlist.subsystems.items():
+            self._add_subsystem(prefix, name, sub, located, scope, stack)
+        for name, net in netlist.nets.items():
+            qualified = prefix + name
+            if qualified in self.components or qualified in self.net_names:
+                raise located.error(("nets", name), f"duplicate name '{name}' (a component or net already has it)")
+            self.net_names.add(qualified)
+            net_spec = netlist.net(name)
+            self.raw_nets.append((qualified, net_spec, located, ("nets", name)))
+            for key, unit in (("volume", "m^3"), ("bulk_modulus", "Pa"), ("initial", None)):
+                raw = getattr(net_spec, key)
+                if raw is not None:
+                    self.table.add(make_entry(f"{qualified}.{key}", raw, unit, scope, located, ("nets", name, key)))
+        for exposed, ref in netlist.ports.items():
+            self.aliases[prefix + exposed] = prefix + ref
+            if prefix == "":
+                pass  # a top-level file's ports: matter only when it is used as a subsystem
+
+    def _add_component(self, prefix: str, name: str, comp: spec.Component, located: Located, scope: dict) -> None:
+        qualified = prefix + name
+        path = ("components", name)
+        if qualified in self.components:
+            raise located.error(path, f"duplicate component name '{name}'")
+        if "." in name:
+            raise located.error(path, f"component name '{name}' may not contain '.'")
+        try:
+            cls = registry.get(comp.type)
+        except KeyError as exc:
+            raise located.error(path + ("type",), f"{name}: {exc.args[0]}") from None
+        flat = FlatComponent(qualified, cls, located, path)
+        declared = {p.name: p for p in cls.params}
+        for key in comp.params:
+            if key not in declared:
+                hint = nearest(key, declared)
+                raise located.error(path + ("params", key), f"{name}: '{key}' is not a parameter of {comp.type}"
+                                    + (f" (did you mean {', '.join(hint)}?)" if hint else
+                                       f" (its parameters: {', '.join(declared) or 'none'})"))
+        for param in cls.params:
+            entry_name = f"{qualified}.{param.name}"
+            ppath = path + ("params", param.name)
+            if param.name in comp.params:
+                raw = comp.params[param.name]
+                if param.array:
+                    value = self._array_value(raw, param, located, ppath, name)
+                    flat.array_lengths[param.name] = len(value)
+                    self.table.add(Entry(entry_name, param.unit, value, None, scope, located, ppath, param))
+                    continue
+                if isinstance(raw, (list, spec.CsvColumn)):
+                    raise located.error(ppath, f"{name}: {param.name} takes a single value, not a list")
+                self.table.add(make_entry(entry_name, raw, param.unit, scope, located, ppath, param))
+            elif param.fluid is not None:
+                self.table.add(make_entry(entry_name, f"fluid_{param.fluid}", param.unit, scope, located, path, param))
+            elif param.default is not None:
+                if param.array:
+                    flat.array_lengths[param.name] = len(param.default)
+                    self.table.add(Entry(entry_name, param.unit, tuple(param.default), None, scope, located, path, param))
+                else:
+                    self.table.add(Entry(entry_name, param.unit, float(param.default), None, scope, located, path, param))
+            else:
+                raise located.error(path + ("params",), f"{name}: missing parameter '{param.name}' "
+                                    f"[{param.unit}] of {comp.type} ({param.description})")
+        states = {s.name: s for s in cls.states}
+        for key, raw in comp.initial.items():
+            if key not in states:
+                raise located.error(path + ("initial", key), f"{name}: '{key}' is not a state of {comp.type}"
+                                    f" (its states: {', '.join(states) or 'none'})")
+            if states[key].size is not None:
+                raise located.error(path + ("initial", key), f"{name}: the array state '{key}' starts at its default")
+            self.table.add(make_entry(f"{qualified}.initial.{key}", raw, states[key].unit, scope, located,
+                                      path + ("initial", key)))
+        self.components[qualified] = flat
+
+    def _array_value(self, raw, param, located: Located, path: tuple, name: str) -> tuple:
+        if isinstance(raw, spec.CsvColumn):
+            return read_csv_column(Path(located.file).parent / raw.csv, raw.column, param.unit, located, path)
+        if not isinstance(raw, list) or not raw:
+            raise located.error(path, f"{name}: {param.name} takes a non-empty list of values or {{csv:, column:}}")
+        values = []
+        for i, item in enumerate(raw):
+            try:
+                values.append(quantity(item, param.unit))
+            except UnitError as exc:
+                raise located.error(path + (i,), f"{name}: {param.name}[{i}]: {exc}") from None
+        problem = param.check(tuple(values))
+        if problem:
+            raise located.error(path, f"{name}: {problem}")
+        return tuple(values)
+
+    def _add_subsystem(self, prefix: str, name: str, sub: spec.Subsystem, located: Located, scope: dict,
+                       stack: tuple) -> None:
+        path = ("subsystems", name)
+        qualified = prefix + name
+        if qualified in self.components:
+            raise located.error(path, f"duplicate name '{name}' (a component already has it)")
+        file = (Path(located.file).parent / sub.netlist)
+        resolved = str(file.resolve())
+        if resolved in stack:
+            raise located.error(path + ("netlist",), f"subsystem '{name}' includes {sub.netlist}, which includes itself")
+        if len(stack) > MAX_SUBSYSTEM_DEPTH:
+            raise located.error(path, f"subsystems nested deeper than {MAX_SUBSYSTEM_DEPTH}")
+        try:
+            inner_located = read_yaml(file)
+        except NetlistError as exc:
+            if exc.message == "file not found":
+                raise located.error(path + ("netlist",), f"subsystem '{name}': file {sub.netlist} not found") from None
+            raise
+        inner = _load_spec(inner_located)
+        overrides = {k: (v, located, path + ("parameters", k)) for k, v in sub.parameters.items()}
+        self.components[qualified] = None  # reserve the name
+        self.add_netlist(inner, inner_located, qualified + ".", overrides, scope, stack + (resolved,))
+        del self.components[qualified]
+        self.subsystem_names = getattr(self, "subsystem_names", set()) | {qualified}
+
+    # ---- nets ---------------------------------------------------------------------------------------
+    def resolve_nets(self) -> dict[str, FlatNet]:
+        """Join the nets (subsystem ports merge inner and outer nets) and check every port once."""
+        parent: dict[str, str] = {}
+
+        def find(a: str) -> str:
+            while parent.get(a, a) != a:
+                a = parent[a]
+            return a
+
+        def union(a: str, b: str) -> None:
+            ra, rb = find(a), find(b)
+            if ra != rb:
+                # keep the outer (shorter) name as the representative
+                keep, drop = (ra, rb) if (ra.count("."), ra) <= (rb.count("."), rb) else (rb, ra)
+                parent[drop] = keep
+
+        ports_of: dict[str, list[tuple[str, str, Located, tuple]]] = {}
+        owner: dict[tuple[str, str], str] = {}
+        for net_name, net, located, path in self.raw_nets:
+            parent.setdefault(net_name, net_name)
+            prefix = net_name.rsplit(".", 1)[0] + "." if "." in net_name else ""
+            for i, ref in enumerate(net.ports):
+                ppath = path + ("ports", i) if isinstance(located.data, dict) else path
+                if not isinstance(located.data.get("nets", {}).get(path[-1]), dict):
+                    ppath = path + (i,)
+                target = self._resolve_ref(prefix + ref, ref, located, ppath)
+                if isinstance(target, str):  # an exposed subsystem port naming an inner net
+                    parent.setdefault(target, target)
+                    union(net_name, target)
+                    continue
+                comp, port = target
+                if (comp, port) in owner and owner[(comp, port)] != net_name:
+                    raise located.error(ppath, f"port {ref} is connected twice (nets "
+                                        f"'{owner[(comp, port)]}' and '{net_name}')")
+                if (comp, port) in owner:
+                    raise located.error(ppath, f"port {ref} is listed twice in net '{net_name}'")
+                owner[(comp, port)] = net_name
+                ports_of.setdefault(net_name, []).append((comp, port, located, ppath))
+        merged: dict[str, FlatNet] = {}
+        for net_name, net, located, path in self.raw_nets:
+            root = find(net_name)
+            flat = merged.setdefault(root, FlatNet(root, None, [], located, path))
+            if root == net_name:
+                flat.source, flat.path = located, path
+            for comp, port, src, ppath in ports_of.get(net_name, []):
+                kind = self.components[comp].cls.port(port).kind
+                if flat.kind is None:
+                    flat.kind = kind
+                elif flat.kind is not kind:
+                    first = flat.ports[0]
+                    raise src.error(ppath, f"net '{root}' joins ports of different kinds: "
+                                    f"{first[0]}.{first[1]} is {flat.kind.value}, {comp}.{port} is {kind.value}")
+                flat.ports.append((comp, port))
+        self._merge_net_entries(merged, find)
+        for comp_name, comp in self.components.items():
+            for port in comp.cls.ports:
+                if (comp_name, port.name) not in owner and not port.optional:
+                    raise comp.source.error(comp.path, f"port {comp_name}.{port.name} ({port.kind.value}) is not connected")
+        for flat in merged.values():
+            if not flat.ports:
+                raise flat.source.error(flat.path, f"net '{flat.name}' connects no ports")
+        return merged
+
+    def _merge_net_entries(self, merged: dict[str, FlatNet], find) -> None:
+        """Nets merged through subsystem ports: volumes add up; an outer initial value wins."""
+        for net_name, _, located, path in self.raw_nets:
+            root = find(net_name)
+            if root == net_name:
+                continue
+            volume = self.table.entries.pop(f"{net_name}.volume", None)
+            if volume is not None:
+                key = f"{root}.volume"
+                if key in self.table.entries:
+                    outer = self.table.entries[key]
+                    combined = f"({_entry_text(outer)}) + ({_entry_text(volume)})"
+                    scope = {**outer.scope, **volume.scope}
+                    self.table.entries[key] = make_entry(key, combined, "m^3", scope, outer.source, outer.path)
+                else:
+                    volume.name = key
+                    self.table.entries[key] = volume
+            for key in ("initial", "bulk_modulus"):
+                entry = self.table.entries.pop(f"{net_name}.{key}", None)
+                if entry is not None and f"{root}.{key}" not in self.table.entries:
+                    entry.name = f"{root}.{key}"
+                    self.table.entries[entry.name] = entry
+        for flat in merged.values():
+            flat.has_volume = f"{flat.name}.volume" in self.table.entries
+        self.table._order = None
+
+    def _resolve_ref(self, qualified: str, ref: str, located: Located, path: tuple):
+        """'valve.A' -> (component, port); an exposed subsystem port -> its inner net or port."""
+        seen = 0
+        while qualified in self.aliases and seen < 20:
+            target = self.aliases[qualified]
+            seen += 1
+            if target in self.net_names:
+                return target
+            qualified = target
+        if "." not in qualified:
+            raise located.error(path, f"'{ref}' is not '<component>.<port>'")
+        comp_name, port_name = qualified.rsplit(".", 1)
+        comp = self.components.get(comp_name)
+        if comp is None:
+            if comp_name in getattr(self, "subsystem_names", set()):
+                raise located.error(path, f"'{ref}': subsystem '{comp_name.rsplit('.', 1)[-1]}' exposes no port "
+                                    f"'{port_name}'")
+            hint = nearest(comp_name, self.components)
+            raise located.error(path, f"'{ref}': unknown component '{comp_name}'"
+                                + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+        names = [p.name for p in comp.cls.ports]
+        if port_name not in names:
+            raise located.error(path, f"'{ref}': {comp.cls.type_name} has no port '{port_name}' "
+                                f"(its ports: {', '.join(names)})")
+        return comp_name, port_name
+
+
+def _entry_text(entry: Entry) -> str:
+    return entry.expression.text if entry.expression is not None else repr(entry.constant)
+
+
+def read_csv_column(file: Path, column: str, unit: str, located: Located, path: tuple) -> tuple:
+    """One column of a CSV data file (header names carry units in brackets: ``p1 [bar]``), in SI."""
+    try:
+        with open(file, newline="") as handle:
+            rows = [row for row in csv.reader(line for line in handle if not line.lstrip().startswith("#"))]
+    except OSError:
+        raise located.error(path, f"cannot read CSV file {file}") from None
+    if not rows:
+        raise located.error(path, f"{file}: empty CSV file")
+    header = [h.strip() for h in rows[0]]
+    names = [h.split("[")[0].strip() for h in header]
+    if column in header:
+        index = header.index(column)
+    elif column in names:
+        index = names.index(column)
+    else:
+        raise located.error(path, f"{file}: no column '{column}' (columns: {', '.join(header)})")
+    given_unit = header[index].split("[", 1)[1].rstrip("]").strip() if "[" in header[index] else ""
+    values = []
+    for line_no, row in enumerate(rows[1:], start=2):
+        try:
+            number = float(row[index])
+        except (ValueError, IndexError):
+            raise located.error(path, f"{file}: row {line_no}, column '{column}': not a number") from None
+        try:
+            values.append(quantity(f"{number!r} {given_unit}", unit) if given_unit else number)
+        except UnitError as exc:
+            raise located.error(path, f"{file}: column '{column}': {exc}") from None
+    if not values:
+        raise located.error(path, f"{file}: column '{column}' has no values")
+    return tuple(values)

@@ -1,0 +1,124 @@
+"""Read YAML safely and remember where every key and value stands (for errors that name line and column).
+
+Only YAML's safe subset is accepted (no tags that build Python objects), duplicate keys are refused, and
+the file's size and nesting are bounded so that a hostile or broken file cannot run code or hang the loader.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import yaml
+
+from blocks.errors import NetlistError
+
+MAX_BYTES = 5_000_000
+MAX_DEPTH = 50
+MAX_NODES = 200_000
+
+Path_ = tuple  # a path into the document: keys and list indices
+
+
+@dataclass
+class Located:
+    """A parsed document and the (line, column) of each path in it, 1-based."""
+
+    file: str
+    data: object
+    positions: dict[tuple, tuple[int, int]] = field(default_factory=dict)
+
+    def where(self, path: tuple) -> tuple[int | None, int | None]:
+        """Line and column of ``path``, or of its nearest located ancestor."""
+        path = tuple(path)
+        while path:
+            if path in self.positions:
+                return self.positions[path]
+            path = path[:-1]
+        return self.positions.get((), (None, None))
+
+    def error(self, path: tuple, message: str) -> NetlistError:
+        line, col = self.where(path)
+        return NetlistError(self.file, message, line, col)
+
+
+def read_yaml(file: str | Path) -> Located:
+    """Parse ``file``; raise :class:`NetlistError` (with line and column) for anything unreadable."""
+    name = str(file)
+    try:
+        raw = Path(file).read_bytes()
+    except FileNotFoundError:
+        raise NetlistError(name, "file not found") from None
+    except OSError as exc:
+        raise NetlistError(name, f"cannot read file: {exc.strerror}") from None
+    if len(raw) > MAX_BYTES:
+        raise NetlistError(name, f"file larger than {MAX_BYTES} bytes")
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise NetlistError(name, f"not UTF-8 text (byte {exc.start})") from None
+    return parse_yaml_text(text, name)
+
+
+def parse_yaml_text(text: str, name: str) -> Located:
+    try:
+        node = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        problem = (exc.problem or exc.context or "invalid YAML").strip()
+        line, col = (mark.line + 1, mark.column + 1) if mark else (None, None)
+        raise NetlistError(name, f"invalid YAML: {problem}", line, col) from None
+    except yaml.YAMLError as exc:
+        raise NetlistError(name, f"invalid YAML: {exc}") from None
+    except RecursionError:
+        raise NetlistError(name, "YAML nested too deeply") from None
+    located = Located(name, None)
+    if node is None:
+        located.data = {}
+        return located
+    counter = [0]
+    located.data = _convert(node, (), located, yaml.SafeLoader(""), counter, 0)
+    return located
+
+
+def _convert(node, path, located: Located, loader, counter, depth):
+    counter[0] += 1
+    if counter[0] > MAX_NODES:
+        raise NetlistError(located.file, f"more than {MAX_NODES} YAML nodes")
+    if depth > MAX_DEPTH:
+        raise NetlistError(located.file, "YAML nested too deeply", node.start_mark.line + 1, node.start_mark.column + 1)
+    located.positions.setdefault(path, (node.start_mark.line + 1, node.start_mark.column + 1))
+    if isinstance(node, yaml.MappingNode):
+        out = {}
+        for key_node, value_node in node.value:
+            if not isinstance(key_node, yaml.ScalarNode):
+                raise NetlistError(located.file, "mapping keys must be plain names",
+                                   key_node.start_mark.line + 1, key_node.start_mark.column + 1)
+            key = _scalar(key_node, loader, located)
+            if key == "<<":
+                raise NetlistError(located.file, "YAML merge keys (<<) are not supported",
+                                   key_node.start_mark.line + 1, key_node.start_mark.column + 1)
+            if not isinstance(key, (str, int, float)) or isinstance(key, bool):
+                key = str(key)
+            key = str(key)
+            if key in out:
+                raise NetlistError(located.file, f"duplicate key '{key}'",
+                                   key_node.start_mark.line + 1, key_node.start_mark.column + 1)
+            located.positions[path + (key,)] = (key_node.start_mark.line + 1, key_node.start_mark.column + 1)
+            out[key] = _convert(value_node, path + (key,), located, loader, counter, depth + 1)
+        return out
+    if isinstance(node, yaml.SequenceNode):
+        return [_convert(item, path + (i,), located, loader, counter, depth + 1) for i, item in enumerate(node.value)]
+    return _scalar(node, loader, located)
+
+
+def _scalar(node, loader, located):
+    try:
+        value = loader.construct_object(node, deep=True)
+    except yaml.YAMLError as exc:
+        problem = getattr(exc, "problem", None) or "cannot read this value"
+        raise NetlistError(located.file, f"invalid value: {problem}", node.start_mark.line + 1,
+                           node.start_mark.column + 1) from None
+    if isinstance(value, (bytes, bytearray)) or type(value).__module__ == "datetime":
+        return str(node.value)
+    return value

@@ -1,0 +1,111 @@
+"""A simulation result: named signals with units, written as CSV or plotted.
+
+Values are SI inside; each logged signal has a display unit (from the netlist's ``outputs:``) used only
+when writing and plotting. Files are written atomically (temporary file, then rename), so an interrupted
+or failed run never leaves a half-written CSV or PNG in place of a good one.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import os
+import tempfile
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from blocks.units import parse_unit
+
+
+@dataclass
+class Result:
+    file: str
+    t: np.ndarray
+    names: list[str]
+    units: list[str]  # SI
+    display_units: list[str]
+    values: np.ndarray  # (samples, signals), SI
+    states: np.ndarray
+    state_names: list[str]
+    stats: dict
+    seconds: float
+    warnings: list[str] = field(default_factory=list)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """A logged signal in SI by name."""
+        try:
+            return self.values[:, self.names.index(name)]
+        except ValueError:
+            raise KeyError(f"no logged signal '{name}' (logged: {', '.join(self.names)})") from None
+
+    def in_unit(self, name: str, unit: str | None = None) -> np.ndarray:
+        """A logged signal in ``unit`` (its display unit by default)."""
+        k = self.names.index(name)
+        unit = unit or self.display_units[k]
+        return self.values[:, k] / parse_unit(unit).factor
+
+    def state(self, name: str) -> np.ndarray:
+        return self.states[:, self.state_names.index(name)]
+
+    def to_csv_text(self) -> str:
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.display_units)])
+        factors = np.array([parse_unit(u).factor for u in self.display_units])
+        table = np.column_stack([self.t, self.values / factors]) if self.names else self.t[:, None]
+        for row in table:
+            writer.writerow([f"{v:.10g}" for v in row])
+        return buffer.getvalue()
+
+    def write_csv(self, path: str | Path) -> None:
+        atomic_write_text(Path(path), self.to_csv_text())
+
+    def plot(self, path: str | Path, title: str | None = None) -> None:
+        """One panel per unit, signals of the same unit together, a shared time axis."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        groups: dict[str, list[int]] = {}
+        for k, unit in enumerate(self.display_units):
+            groups.setdefault(unit, []).append(k)
+        n = max(1, len(groups))
+        fig, axes = plt.subplots(n, 1, sharex=True, figsize=(9, 2.2 + 1.8 * n), squeeze=False)
+        for ax, (unit, members) in zip(axes[:, 0], groups.items()):
+            for k in members:
+                ax.plot(self.t, self.in_unit(self.names[k]), label=self.names[k])
+            ax.set_ylabel(f"[{unit}]")
+            ax.grid(True, alpha=0.3)
+            ax.legend(loc="best", fontsize="small")
+        axes[-1, 0].set_xlabel("t [s]")
+        fig.suptitle(title or Path(self.file).name)
+        fig.tight_layout()
+        atomic_write_figure(fig, Path(path))
+        plt.close(fig)
+
+
+def atomic_write_text(path: Path, text: str) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise
+
+
+def atomic_write_figure(fig, path: Path) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix or ".png")
+    os.close(fd)
+    try:
+        fig.savefig(tmp, dpi=110)
+        os.replace(tmp, path)
+    except BaseException:
+        Path(tmp).unlink(missing_ok=True)
+        raise

@@ -1,0 +1,241 @@
+"""Units at the edges: parse "207 bar", "30 cm^3/rev", "m^3/(s*Pa)" into SI values with a dimension check.
+
+Everything inside the engine is SI. Units are parsed only where values enter (netlists, data files, command
+line) and where they leave (CSV headers, plots, reports).
+
+Dimensions are exponent vectors over (length, mass, time, angle, temperature, current). Angle is kept as a
+dimension of its own so that "30 cm^3/rev" converts correctly into a displacement in m^3/rad and "12 Hz"
+into an angular frequency in rad/s (1 Hz = 1 rev/s = 2*pi rad/s). The price is strictness: a value in
+"N*m*s" does not fit a parameter declared in "N*m*s/rad". Pressures are gauge pressures.
+
+Grammar: products with ``*``, ``·`` or a space, quotients with ``/`` (left-associative, as in arithmetic:
+``m^3/s/Pa`` = ``m^3/(s*Pa)``), powers with ``^`` or ``**`` (integer or fraction such as ``^0.5``),
+parentheses, and the dimensionless ``1``. ``%`` is 0.01.
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from dataclasses import dataclass
+from functools import lru_cache
+
+DIMENSION_NAMES = ("m", "kg", "s", "rad", "K", "A")
+
+
+@dataclass(frozen=True)
+class Unit:
+    """A parsed unit: the factor to SI and the dimension exponents."""
+
+    factor: float
+    dims: tuple[float, ...]
+
+    def __mul__(self, other: "Unit") -> "Unit":
+        return Unit(self.factor * other.factor, tuple(a + b for a, b in zip(self.dims, other.dims)))
+
+    def __truediv__(self, other: "Unit") -> "Unit":
+        return Unit(self.factor / other.factor, tuple(a - b for a, b in zip(self.dims, other.dims)))
+
+    def __pow__(self, n: float) -> "Unit":
+        return Unit(self.factor**n, tuple(a * n for a in self.dims))
+
+    def same_dimension(self, other: "Unit") -> bool:
+        return all(abs(a - b) < 1e-12 for a, b in zip(self.dims, other.dims))
+
+    def describe_dims(self) -> str:
+        parts = [f"{n}^{_fmt_exp(e)}" if e != 1 else n for n, e in zip(DIMENSION_NAMES, self.dims) if e]
+        return "*".join(parts) if parts else "1"
+
+
+def _fmt_exp(e: float) -> str:
+    return str(int(e)) if float(e).is_integer() else f"{e:g}"
+
+
+def _base(index: int) -> tuple[float, ...]:
+    return tuple(1.0 if i == index else 0.0 for i in range(len(DIMENSION_NAMES)))
+
+
+_ONE = Unit(1.0, (0.0,) * len(DIMENSION_NAMES))
+_M, _KG, _S, _RAD, _K, _A = (Unit(1.0, _base(i)) for i in range(6))
+_N = _KG * _M / _S**2
+_PA = _N / _M**2
+_J = _N * _M
+_W = _J / _S
+_REV = Unit(2 * math.pi, _RAD.dims)
+
+UNITS: dict[str, Unit] = {
+    "1": _ONE, "unit": _ONE, "%": Unit(0.01, _ONE.dims),
+    # length, area, volume
+    "m": _M, "mm": Unit(1e-3, _M.dims), "cm": Unit(1e-2, _M.dims), "um": Unit(1e-6, _M.dims),
+    "km": Unit(1e3, _M.dims), "in": Unit(0.0254, _M.dims),
+    "l": Unit(1e-3, (_M**3).dims), "L": Unit(1e-3, (_M**3).dims), "ml": Unit(1e-6, (_M**3).dims),
+    "cc": Unit(1e-6, (_M**3).dims),
+    # mass
+    "kg": _KG, "g": Unit(1e-3, _KG.dims), "t": Unit(1e3, _KG.dims),
+    # time
+    "s": _S, "ms": Unit(1e-3, _S.dims), "min": Unit(60.0, _S.dims), "h": Unit(3600.0, _S.dims),
+    # angle and rotation
+    "rad": _RAD, "deg": Unit(math.pi / 180, _RAD.dims), "rev": _REV,
+    "rpm": _REV / Unit(60.0, _S.dims), "Hz": _REV / _S,
+    # force, pressure, energy, power
+    "N": _N, "kN": Unit(1e3, _N.dims), "MN": Unit(1e6, _N.dims), "Nm": _N * _M,
+    "Pa": _PA, "kPa": Unit(1e3, _PA.dims), "MPa": Unit(1e6, _PA.dims), "GPa": Unit(1e9, _PA.dims),
+    "bar": Unit(1e5, _PA.dims), "mbar": Unit(100.0, _PA.dims), "psi": Unit(6894.757293168, _PA.dims),
+    "J": _J, "kJ": Unit(1e3, _J.dims), "W": _W, "kW": Unit(1e3, _W.dims),
+    # viscosity
+    "cSt": Unit(1e-6, (_M**2 / _S).dims), "St": Unit(1e-4, (_M**2 / _S).dims),
+    # temperature (differences), current
+    "K": _K, "A": _A, "mA": Unit(1e-3, _A.dims),
+}
+
+_TOKEN = re.compile(r"\s*(?:(?P<num>\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)|(?P<name>[A-Za-z%]+)|(?P<op>\*\*|[*·/^()]))")
+_NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+_QUANTITY = re.compile(rf"^\s*(?P<value>{_NUMBER})\s*(?P<unit>.*?)\s*$")
+
+
+class UnitError(ValueError):
+    """A unit or quantity that cannot be parsed, or has the wrong dimension."""
+
+
+@lru_cache(maxsize=512)
+def parse_unit(text: str) -> Unit:
+    """Parse a unit expression such as ``"m^3/(s*Pa)"`` into a :class:`Unit`."""
+    text = text.strip()
+    if not text:
+        return _ONE
+    tokens = _tokenize(text)
+    unit, pos = _parse_product(tokens, 0, text)
+    if pos != len(tokens):
+        raise UnitError(f"unexpected '{tokens[pos][1]}' in unit '{text}'")
+    return unit
+
+
+def _tokenize(text: str) -> list[tuple[str, str]]:
+    tokens, pos = [], 0
+    text = text.rstrip()
+    while pos < len(text):
+        m = _TOKEN.match(text, pos)
+        if not m or m.end() == pos:
+            raise UnitError(f"cannot read '{text[pos:].strip()}' in unit '{text}'")
+        kind = m.lastgroup
+        tokens.append((kind, m.group(kind)))
+        pos = m.end()
+    return tokens
+
+
+def _parse_product(tokens, pos, text):
+    unit, pos = _parse_power(tokens, pos, text)
+    while pos < len(tokens):
+        kind, tok = tokens[pos]
+        if tok in ("*", "·"):
+            rhs, pos = _parse_power(tokens, pos + 1, text)
+            unit = unit * rhs
+        elif tok == "/":
+            rhs, pos = _parse_power(tokens, pos + 1, text)
+            unit = unit / rhs
+        elif kind == "name" or tok == "(":
+            rhs, pos = _parse_power(tokens, pos, text)  # juxtaposition: "N m"
+            unit = unit * rhs
+        else:
+            break
+    return unit, pos
+
+
+def _parse_power(tokens, pos, text):
+    unit, pos = _parse_atom(tokens, pos, text)
+    if pos < len(tokens) and tokens[pos][1] in ("^", "**"):
+        pos += 1
+        sign = 1.0
+        if pos < len(tokens) and tokens[pos][1] == "(":
+            # exponent in parentheses, e.g. m^(1/2) is not supported beyond a plain number
+            raise UnitError(f"write exponents as plain numbers in unit '{text}'")
+        if pos >= len(tokens) or tokens[pos][0] != "num":
+            raise UnitError(f"missing exponent in unit '{text}'")
+        unit = unit ** (sign * float(tokens[pos][1]))
+        pos += 1
+    return unit, pos
+
+
+def _parse_atom(tokens, pos, text):
+    if pos >= len(tokens):
+        raise UnitError(f"unit '{text}' ends too early")
+    kind, tok = tokens[pos]
+    if tok == "(":
+        unit, pos = _parse_product(tokens, pos + 1, text)
+        if pos >= len(tokens) or tokens[pos][1] != ")":
+            raise UnitError(f"unbalanced parenthesis in unit '{text}'")
+        return unit, pos + 1
+    if kind == "num":
+        if float(tok) != 1.0:
+            raise UnitError(f"a number ({tok}) inside unit '{text}' is not allowed")
+        return _ONE, pos + 1
+    if kind == "name":
+        if tok not in UNITS:
+            near = nearest(tok, UNITS)
+            hint = f" (did you mean {', '.join(near)}?)" if near else ""
+            raise UnitError(f"unknown unit '{tok}'{hint}")
+        return UNITS[tok], pos + 1
+    raise UnitError(f"unexpected '{tok}' in unit '{text}'")
+
+
+def nearest(name: str, choices, n: int = 3) -> list[str]:
+    """The closest names to ``name`` among ``choices`` (for 'did you mean' hints)."""
+    import difflib
+
+    return difflib.get_close_matches(name, list(choices), n=n, cutoff=0.6)
+
+
+def to_si(value: float, unit: str) -> float:
+    """Convert ``value`` given in ``unit`` to SI."""
+    return value * parse_unit(unit).factor
+
+
+def from_si(value, unit: str):
+    """Convert an SI value (or array) to ``unit``."""
+    return value / parse_unit(unit).factor
+
+
+def quantity(value, declared_unit: str) -> float:
+    """Read a netlist value into SI for a parameter declared in ``declared_unit``.
+
+    A number is taken as SI already. A string is "<number> <unit>"; its unit must have the dimension of
+    ``declared_unit``; a bare number in a string ("0.7") is SI too.
+    """
+    if isinstance(value, bool):
+        raise UnitError(f"expected a number, got {value!r}")
+    if isinstance(value, (int, float)):
+        return float(value)
+    if not isinstance(value, str):
+        raise UnitError(f"expected a number or a '<number> <unit>' string, got {value!r}")
+    m = _QUANTITY.match(value)
+    if not m:
+        raise UnitError(f"'{value}' is not '<number> <unit>'")
+    number = float(m.group("value"))
+    unit_text = m.group("unit")
+    if not unit_text:
+        return number
+    return convert(number, unit_text, declared_unit)
+
+
+def convert(number: float, unit_text: str, declared_unit: str) -> float:
+    """Convert ``number`` in ``unit_text`` to SI, checking it has the dimension of ``declared_unit``.
+
+    Declared units are SI-coherent (factor 1: "Pa", "m^3/rad", "rad/s"), so the SI value is the number times
+    the factor of the given unit.
+    """
+    given = parse_unit(unit_text)
+    declared = parse_unit(declared_unit)
+    if not given.same_dimension(declared):
+        raise UnitError(
+            f"wrong unit '{unit_text}' ({given.describe_dims()}): expected a quantity in {declared_unit} "
+            f"({declared.describe_dims()})"
+        )
+    return number * given.factor
+
+
+def split_quantity(text: str) -> tuple[float, str]:
+    """Split "207 bar" into (207.0, "bar"); a bare number gives unit ""."""
+    m = _QUANTITY.match(text)
+    if not m:
+        raise UnitError(f"'{text}' is not '<number> <unit>'")
+    return float(m.group("value")), m.group("unit")

@@ -1,0 +1,226 @@
+"""The ``vphs`` command.
+
+    vphs validate NETLIST
+    vphs run NETLIST [-o results.csv] [--set name=value ...] [--plot out.png] [--solver S]
+    vphs blocks [TYPE]
+    vphs graph NETLIST [-o circuit.png]
+    vphs docs [-o docs/netlist-reference.md]
+
+Exit codes: 0 success, 1 the simulation failed (the solver's message says when and where), 2 bad input
+(a netlist, a data file, an argument). Errors are one line, never a traceback.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+EXIT_FAILED, EXIT_BAD_INPUT = 1, 2
+
+
+class ArgumentError(Exception):
+    pass
+
+
+class _Parser(argparse.ArgumentParser):
+    def error(self, message):  # one line, exit 2, as for any bad input
+        raise ArgumentError(f"vphs: {message} (see 'vphs --help')")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(prog="vphs", description="Simulate hydraulic machinery described by YAML netlists.")
+    sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
+
+    p = sub.add_parser("validate", help="check a netlist without running it")
+    p.add_argument("netlist")
+
+    p = sub.add_parser("run", help="simulate a netlist")
+    p.add_argument("netlist")
+    p.add_argument("-o", "--output", help="CSV file for the logged signals (header: name [unit])")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter, e.g. --set ctrl.Kp=4 --set 'm_load=15 t' (repeatable)")
+    p.add_argument("--plot", help="PNG file: the logged signals on a shared time axis")
+    p.add_argument("--solver", choices=["rodas", "fixed", "lsoda", "bdf", "radau"], help="override the netlist's solver")
+    p.add_argument("--t-end", help="override simulation.t_end, e.g. '5 s'")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary on stderr")
+
+    p = sub.add_parser("blocks", help="the block catalogue, or one type in full")
+    p.add_argument("type", nargs="?")
+
+    p = sub.add_parser("graph", help="draw the circuit: components and the nets joining them")
+    p.add_argument("netlist")
+    p.add_argument("-o", "--output", help="PNG file (default: NETLIST with .png)")
+
+    p = sub.add_parser("docs", help="write the netlist reference generated from the block registry")
+    p.add_argument("-o", "--output", default="docs/netlist-reference.md")
+    return parser
+
+
+def main(argv: list[str] | None = None) -> int:
+    from blocks.errors import VphsError, SimulationError
+
+    try:
+        args = build_parser().parse_args(argv)
+        return COMMANDS[args.command](args)
+    except ArgumentError as exc:
+        print(exc, file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except SimulationError as exc:
+        print(f"vphs: {exc}", file=sys.stderr)
+        return EXIT_FAILED
+    except VphsError as exc:
+        print(f"vphs: {exc}", file=sys.stderr)
+        return EXIT_BAD_INPUT
+    except KeyboardInterrupt:
+        print("vphs: interrupted; nothing half-written was left behind", file=sys.stderr)
+        return 130
+    except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
+        if os.environ.get("VPHS_DEBUG"):
+            raise
+        print(f"vphs: internal error: {type(exc).__name__}: {exc} (set VPHS_DEBUG=1 for the traceback)",
+              file=sys.stderr)
+        return EXIT_FAILED
+
+
+def cmd_validate(args) -> int:
+    from blocks.compiler.structure import analyse
+    from blocks.netlist.flatten import flatten
+
+    flat = flatten(args.netlist)
+    st = analyse(flat)
+    from blocks.circuit import Circuit  # noqa: F401  (outputs and settings are checked by building)
+    from blocks.compiler.codegen import Generator
+    from blocks.solve.settings import read_settings
+
+    generator = Generator(st)
+    for out in flat.outputs:
+        try:
+            generator.resolve_output(out.of)
+        except KeyError as exc:
+            raise out.source.error(out.path, f"output '{out.name}': {exc.args[0]}") from None
+    read_settings(flat)
+    print(f"{args.netlist}: ok: {len(flat.components)} components, {len(flat.nets)} nets, "
+          f"{st.n_states} states, {st.theta_size} parameters")
+    return 0
+
+
+def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
+    """``name=value`` pairs; the value may carry a unit, checked against the parameter's declared unit."""
+    from blocks.units import UnitError, parse_unit, quantity, split_quantity
+
+    overrides = {}
+    entries = circuit.flat.parameters.entries
+    for pair in pairs:
+        name, sep, raw = pair.partition("=")
+        name, raw = name.strip(), raw.strip()
+        if not sep or not name or not raw:
+            raise ArgumentError(f"vphs: --set '{pair}': expected NAME=VALUE")
+        if name not in entries:
+            from blocks.units import nearest
+
+            hint = nearest(name, entries)
+            raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
+                                + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+        unit = entries[name].unit
+        try:
+            if unit is None:
+                number, unit_text = split_quantity(raw)
+                overrides[name] = number * parse_unit(unit_text).factor
+            else:
+                overrides[name] = quantity(raw if not _is_number(raw) else float(raw), unit)
+        except UnitError as exc:
+            raise ArgumentError(f"vphs: --set '{pair}': {exc}") from None
+    return overrides
+
+
+def _is_number(text: str) -> bool:
+    try:
+        float(text)
+        return True
+    except ValueError:
+        return False
+
+
+def cmd_run(args) -> int:
+    from blocks.circuit import Circuit
+    from blocks.units import UnitError, quantity
+
+    for target in (args.output, args.plot):
+        if target and Path(target).is_dir():
+            raise ArgumentError(f"vphs: output '{target}' is a folder; give a file name")
+    circuit = Circuit.from_file(args.netlist, quiet=args.quiet)
+    overrides = parse_overrides(args.set, circuit)
+    settings = circuit.settings
+    if args.solver:
+        if args.solver == "fixed" and not settings.fixed_step:
+            raise ArgumentError("vphs: --solver fixed needs simulation.fixed_step in the netlist")
+        settings = settings.with_(solver=args.solver)
+    if args.t_end:
+        try:
+            settings = settings.with_(t_end=quantity(args.t_end if not _is_number(args.t_end) else float(args.t_end), "s"))
+        except UnitError as exc:
+            raise ArgumentError(f"vphs: --t-end: {exc}") from None
+        if settings.t_end <= settings.t_start:
+            raise ArgumentError("vphs: --t-end must be after the start time")
+    try:
+        result = circuit.simulate(overrides, settings)
+    except KeyError as exc:
+        raise ArgumentError(f"vphs: {exc.args[0]}") from None
+    for warning in result.warnings:
+        print(f"vphs: warning: {warning}", file=sys.stderr)
+    if args.output:
+        result.write_csv(args.output)
+    else:
+        sys.stdout.write(result.to_csv_text())
+    if args.plot:
+        result.plot(args.plot)
+    if not args.quiet:
+        stats = ", ".join(f"{k} {v}" for k, v in result.stats.items())
+        print(f"vphs: {args.netlist}: {settings.t_end - settings.t_start:g} s simulated in {result.seconds * 1e3:.1f} ms "
+              f"({settings.solver}; {stats})" + (f"; wrote {args.output}" if args.output else "")
+              + (f", {args.plot}" if args.plot else ""), file=sys.stderr)
+    return 0
+
+
+def cmd_blocks(args) -> int:
+    from blocks import registry
+    from blocks.docs import block_reference
+
+    if args.type:
+        try:
+            cls = registry.get(args.type)
+        except KeyError as exc:
+            raise ArgumentError(f"vphs: {exc.args[0]}") from None
+        print(block_reference(cls))
+        return 0
+    for name, cls in registry.all_types().items():
+        print(f"{name:24s} {cls.summary()}")
+    return 0
+
+
+def cmd_graph(args) -> int:
+    from blocks.graph import draw_circuit
+    from blocks.netlist.flatten import flatten
+
+    flat = flatten(args.netlist)
+    output = args.output or str(Path(args.netlist).with_suffix(".png"))
+    draw_circuit(flat, output)
+    print(f"vphs: wrote {output}", file=sys.stderr)
+    return 0
+
+
+def cmd_docs(args) -> int:
+    from blocks.docs import write_reference
+
+    write_reference(args.output)
+    print(f"vphs: wrote {args.output}", file=sys.stderr)
+    return 0
+
+
+COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "docs": cmd_docs}
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,362 @@
+"""The generic hydraulic blocks, each alone against its closed form (raw Python functions called by name),
+plus one numba compilation of every equation function compared with the pure-Python call."""
+
+from __future__ import annotations
+
+import math
+
+import numba
+import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from blocks.block import argument_names
+from blocks.library.hydraulic.check_valve import CheckValve
+from blocks.library.hydraulic.cylinder import Cylinder
+from blocks.library.hydraulic.flow import turbulent_flow
+from blocks.library.hydraulic.flow_sensor import FlowSensor
+from blocks.library.hydraulic.flow_source import FlowSource
+from blocks.library.hydraulic.flow_source_signal import FlowSourceSignal
+from blocks.library.hydraulic.hydraulic_motor import HydraulicMotor
+from blocks.library.hydraulic.laminar_orifice import LaminarOrifice
+from blocks.library.hydraulic.orifice import Orifice
+from blocks.library.hydraulic.pressure_sensor import PressureSensor
+from blocks.library.hydraulic.pressure_source import PressureSource
+from blocks.library.hydraulic.relief_valve import ReliefValve
+from blocks.library.hydraulic.tank import Tank
+from blocks.library.hydraulic.valve_4_3 import Valve43
+from blocks.library.hydraulic.variable_orifice import VariableOrifice
+from blocks.library.hydraulic.volume import Volume
+from blocks.registry import get
+
+RHO = 850.0
+BAR = 1e5
+
+
+def named(cls, values) -> dict[str, float]:
+    """Map a derivatives() result onto the block's derivative names (checks the tuple length too)."""
+    names = cls.derivative_names()
+    assert len(values) == len(names), (cls.__name__, names, values)
+    return dict(zip(names, values))
+
+
+def sqrt_law(dp, area, cd=0.7, rho=RHO):
+    return math.copysign(cd * area * math.sqrt(2.0 * abs(dp) / rho), dp)
+
+
+# ---------------------------------------------------------------- registration
+@pytest.mark.parametrize(
+    "type_name, cls",
+    [
+        ("orifice", Orifice), ("pressure_source", PressureSource), ("tank", Tank), ("flow_source", FlowSource),
+        ("flow_source_signal", FlowSourceSignal), ("volume", Volume), ("variable_orifice", VariableOrifice),
+        ("laminar_orifice", LaminarOrifice), ("check_valve", CheckValve), ("relief_valve", ReliefValve),
+        ("pressure_sensor", PressureSensor), ("flow_sensor", FlowSensor), ("hydraulic_motor", HydraulicMotor),
+        ("valve_4_3", Valve43), ("cylinder", Cylinder),
+    ],
+)
+def test_hydraulic_block_registered(type_name, cls):
+    assert get(type_name) is cls
+    assert cls.summary()
+
+
+# ---------------------------------------------------------------- orifices
+def test_orifice_sqrt_law_at_large_dp():
+    A, dp_t = 1e-5, 1e3
+    for dp in (50 * BAR, 200 * BAR):
+        q_a, q_b = Orifice.derivatives(a=dp, b=0.0, A=A, Cd=0.7, dp_t=dp_t, rho=RHO)
+        assert q_b == pytest.approx(sqrt_law(dp, A), rel=1e-6)
+        assert q_a == -q_b
+
+
+@settings(max_examples=200, deadline=None)
+@given(pa=st.floats(-1e7, 3e7), pb=st.floats(-1e7, 3e7))
+def test_orifice_sign_symmetry(pa, pb):
+    kw = dict(A=2e-5, Cd=0.65, dp_t=1e5, rho=RHO)
+    q_ab = Orifice.derivatives(a=pa, b=pb, **kw)
+    q_ba = Orifice.derivatives(a=pb, b=pa, **kw)
+    assert q_ab[1] == pytest.approx(-q_ba[1], rel=1e-12, abs=1e-300)
+    assert q_ab[0] + q_ab[1] == 0.0
+    assert (q_ab[1] > 0) == (pa > pb) or pa == pb
+
+
+def test_orifice_linear_near_zero():
+    A, dp_t = 1e-5, 1e5
+    dp = 1.0
+    q = Orifice.derivatives(a=dp, b=0.0, A=A, Cd=0.7, dp_t=dp_t, rho=RHO)[1]
+    assert q == pytest.approx(0.7 * A * math.sqrt(2 / RHO) * dp / math.sqrt(dp_t), rel=1e-9)
+
+
+def test_variable_orifice_matches_orifice_and_clips_at_zero():
+    kw = dict(Cd=0.7, dp_t=1e5, rho=RHO)
+    assert VariableOrifice.derivatives(a=3e6, b=1e6, A=1e-5, **kw) == Orifice.derivatives(a=3e6, b=1e6, A=1e-5, **kw)
+    assert VariableOrifice.derivatives(a=3e6, b=1e6, A=-1e-5, **kw) == (0.0, 0.0)
+
+
+def test_laminar_orifice():
+    q = named(LaminarOrifice, LaminarOrifice.derivatives(a=5e6, b=1e6, G=2e-12))
+    assert q["q_b"] == pytest.approx(8e-6)
+    assert q["q_a"] == -q["q_b"]
+
+
+# ---------------------------------------------------------------- sources, volume, sensors
+def test_tank_and_sources():
+    assert Tank.prescribes == ("port",)
+    assert Tank.param("p").default == 0.0
+    assert Tank.outputs(p=0.0) == (0.0,)
+    assert named(FlowSource, FlowSource.derivatives(q=1e-4)) == {"q_a": -1e-4, "q_b": 1e-4}
+    assert named(FlowSourceSignal, FlowSourceSignal.derivatives(q=-2e-4)) == {"q_a": 2e-4, "q_b": -2e-4}
+
+
+def test_volume_stores_and_passes_no_flow():
+    assert named(Volume, Volume.derivatives(V=2e-5)) == {"q_port": 0.0, "V_port": 2e-5}
+
+
+def test_pressure_sensor():
+    assert PressureSensor.outputs(port=1.5e7) == (1.5e7,)
+    assert named(PressureSensor, PressureSensor.derivatives()) == {"q_port": 0.0}
+
+
+def test_flow_sensor_outputs_the_flow_it_passes():
+    R = 1e10
+    (q_out,) = FlowSensor.outputs(a=2e6, b=1e6, R=R)
+    q = named(FlowSensor, FlowSensor.derivatives(a=2e6, b=1e6, R=R))
+    assert q_out == pytest.approx(1e-4)
+    assert q["q_b"] == q_out and q["q_a"] == -q_out
+
+
+# ---------------------------------------------------------------- check and relief valves
+CV = dict(A_max=2e-5, p_crack=1 * BAR, p_open=3 * BAR, A_leak=1e-9, Cd=0.7, dp_t=1e4, rho=RHO)
+
+
+def cv_flow(dp, **over):
+    kw = {**CV, **over}
+    return named(CheckValve, CheckValve.derivatives(a=dp + 2e6, b=2e6, **kw))
+
+
+def test_check_valve_closed_below_crack_only_leakage():
+    for dp in (-50 * BAR, -1 * BAR, 0.0, 0.5 * BAR, 1 * BAR):
+        q = cv_flow(dp)
+        assert q["q_b"] == pytest.approx(turbulent_flow(dp, CV["A_leak"], 0.7, RHO, CV["dp_t"]), rel=1e-12, abs=1e-300)
+        assert q["q_a"] == -q["q_b"]
+    assert cv_flow(0.5 * BAR, A_leak=0.0)["q_b"] == 0.0
+    assert cv_flow(-50 * BAR, A_leak=0.0)["q_b"] == 0.0
+
+
+def test_check_valve_partly_and_fully_open():
+    dp_mid = 2 * BAR  # half way from crack to full open: smooth_step = 1/2
+    area_mid = CV["A_leak"] + 0.5 * (CV["A_max"] - CV["A_leak"])
+    assert cv_flow(dp_mid)["q_b"] == pytest.approx(turbulent_flow(dp_mid, area_mid, 0.7, RHO, CV["dp_t"]), rel=1e-12)
+    q_lo = cv_flow(1.2 * BAR)["q_b"]
+    assert turbulent_flow(1.2 * BAR, CV["A_leak"], 0.7, RHO, CV["dp_t"]) < q_lo
+    assert q_lo < turbulent_flow(1.2 * BAR, CV["A_max"], 0.7, RHO, CV["dp_t"])
+    for dp in (3 * BAR, 10 * BAR, 100 * BAR):
+        assert cv_flow(dp)["q_b"] == pytest.approx(turbulent_flow(dp, CV["A_max"], 0.7, RHO, CV["dp_t"]), rel=1e-12)
+    assert cv_flow(100 * BAR)["q_b"] == pytest.approx(sqrt_law(100 * BAR, CV["A_max"]), rel=1e-6)
+
+
+def test_check_valve_flow_continuous_and_monotone():
+    dps = [CV["p_crack"] + i * 1.0 for i in range(-50000, 250000, 500)]  # through crack and full open
+    qs = [cv_flow(dp)["q_b"] for dp in dps]
+    assert all(q2 > q1 for q1, q2 in zip(qs, qs[1:]))
+    for edge in (CV["p_crack"], CV["p_open"]):
+        eps = 1e-3
+        assert cv_flow(edge + eps)["q_b"] == pytest.approx(cv_flow(edge - eps)["q_b"], rel=1e-6)
+
+
+RV = dict(p_set=200 * BAR, p_open=210 * BAR, A_max=5e-5, A_leak=1e-9, Cd=0.7, dp_t=1e5, rho=RHO)
+
+
+def rv_flow(p_in, p_out=0.0):
+    return named(ReliefValve, ReliefValve.derivatives(a=p_in, b=p_out, **RV))
+
+
+def test_relief_valve_closed_partly_open_full():
+    for p in (0.0, 100 * BAR, 199.9 * BAR, 200 * BAR):
+        assert rv_flow(p)["q_b"] == pytest.approx(turbulent_flow(p, RV["A_leak"], 0.7, RHO, RV["dp_t"]), rel=1e-12)
+    area_mid = RV["A_leak"] + 0.5 * (RV["A_max"] - RV["A_leak"])
+    assert rv_flow(205 * BAR)["q_b"] == pytest.approx(turbulent_flow(205 * BAR, area_mid, 0.7, RHO, 1e5), rel=1e-12)
+    for p in (210 * BAR, 250 * BAR):
+        q = rv_flow(p)
+        assert q["q_b"] == pytest.approx(turbulent_flow(p, RV["A_max"], 0.7, RHO, 1e5), rel=1e-12)
+        assert q["q_a"] == -q["q_b"]
+    # it opens on the difference p_in - p_out, not on p_in alone
+    assert rv_flow(250 * BAR, 100 * BAR)["q_b"] == pytest.approx(
+        turbulent_flow(150 * BAR, RV["A_leak"], 0.7, RHO, 1e5), rel=1e-12
+    )
+
+
+# ---------------------------------------------------------------- motor
+MOTOR = dict(D=2 * 30e-6 / (2 * math.pi), J_m=0.0068)
+
+
+def test_motor_flows_and_torque():
+    pa, pb, w, G = 150 * BAR, 20 * BAR, 12.0, 1e-12
+    d = named(HydraulicMotor, HydraulicMotor.derivatives(a=pa, b=pb, shaft=w, G_leak=G, **MOTOR))
+    q_m = MOTOR["D"] * w + G * (pa - pb)
+    assert d["q_a"] == pytest.approx(-q_m) and d["q_b"] == pytest.approx(q_m)
+    assert d["tau_shaft"] == pytest.approx(MOTOR["D"] * (pa - pb))
+    assert d["J_shaft"] == MOTOR["J_m"]
+    assert d["q_a"] + d["q_b"] == 0.0
+
+
+@settings(max_examples=200, deadline=None)
+@given(pa=st.floats(0, 4e7), pb=st.floats(0, 4e7), w=st.floats(-300, 300), G=st.floats(0, 1e-10))
+def test_motor_power_balance(pa, pb, w, G):
+    d = named(HydraulicMotor, HydraulicMotor.derivatives(a=pa, b=pb, shaft=w, G_leak=G, **MOTOR))
+    hydraulic_in = -(d["q_a"] * pa + d["q_b"] * pb)  # power the motor takes from the nets
+    shaft_out = d["tau_shaft"] * w
+    leak_loss = G * (pa - pb) ** 2
+    scale = abs(pa - pb) * (MOTOR["D"] * abs(w) + G * abs(pa - pb)) + 1e-30
+    assert abs(hydraulic_in - shaft_out - leak_loss) <= 1e-9 * scale
+    if G == 0.0:
+        assert (pa - pb) * MOTOR["D"] * w == pytest.approx(shaft_out, rel=1e-12, abs=1e-300)
+
+
+# ---------------------------------------------------------------- 4/3 valve
+VALVE = dict(A_max=125e-6, x_db=0.02, A_leak=0.0, Cd=0.7, dp_t=1e5, rho=RHO)
+PS, PT, PA, PB = 207 * BAR, 0.0, 90 * BAR, 40 * BAR
+
+
+def valve(x, P=PS, T=PT, A=PA, B=PB, **over):
+    return named(Valve43, Valve43.derivatives(P=P, T=T, A=A, B=B, x=x, **{**VALVE, **over}))
+
+
+def edge(dp, area):
+    return turbulent_flow(dp, area, VALVE["Cd"], RHO, VALVE["dp_t"])
+
+
+def test_valve_positive_spool_opens_PA_and_BT():
+    x = 0.5
+    area = VALVE["A_max"] * (x - 0.02) / 0.98
+    q_PA, q_BT = edge(PS - PA, area), edge(PB - PT, area)
+    d = valve(x)
+    assert q_PA > 0 and q_BT > 0
+    assert d["q_P"] == pytest.approx(-q_PA) and d["q_A"] == pytest.approx(q_PA)
+    assert d["q_B"] == pytest.approx(-q_BT) and d["q_T"] == pytest.approx(q_BT)
+
+
+def test_valve_negative_spool_opens_PB_and_AT():
+    x = -0.7
+    area = VALVE["A_max"] * (0.7 - 0.02) / 0.98
+    q_PB, q_AT = edge(PS - PB, area), edge(PA - PT, area)
+    d = valve(x)
+    assert q_PB > 0 and q_AT > 0
+    assert d["q_P"] == pytest.approx(-q_PB) and d["q_B"] == pytest.approx(q_PB)
+    assert d["q_A"] == pytest.approx(-q_AT) and d["q_T"] == pytest.approx(q_AT)
+
+
+def test_valve_full_stroke_gives_full_area():
+    assert valve(1.0)["q_A"] == pytest.approx(edge(PS - PA, VALVE["A_max"]), rel=1e-12)
+    assert valve(-1.0)["q_B"] == pytest.approx(edge(PS - PB, VALVE["A_max"]), rel=1e-12)
+
+
+def test_valve_dead_band_closed_and_leakage():
+    for x in (0.0, 0.01, -0.02, 0.02):
+        assert all(v == 0.0 for v in valve(x).values())
+    leak = 1e-8
+    d = valve(0.0, A_leak=leak)
+    q_PA, q_BT, q_PB, q_AT = edge(PS - PA, leak), edge(PB - PT, leak), edge(PS - PB, leak), edge(PA - PT, leak)
+    assert d["q_P"] == pytest.approx(-(q_PA + q_PB))
+    assert d["q_T"] == pytest.approx(q_BT + q_AT)
+    assert d["q_A"] == pytest.approx(q_PA - q_AT)
+    assert d["q_B"] == pytest.approx(q_PB - q_BT)
+
+
+def test_valve_reverse_flow_is_negative():
+    # load pressure above supply: oil flows back A -> P through the open P-A edge
+    d = valve(0.5, A=250 * BAR)
+    assert d["q_A"] < 0 and d["q_P"] > 0
+
+
+@settings(max_examples=300, deadline=None)
+@given(
+    P=st.floats(0, 4e7), T=st.floats(0, 4e7), A=st.floats(0, 4e7), B=st.floats(0, 4e7),
+    x=st.floats(-1, 1), leak=st.sampled_from([0.0, 1e-9, 1e-6]),
+)
+def test_valve_conserves_flow(P, T, A, B, x, leak):
+    d = valve(x, P=P, T=T, A=A, B=B, A_leak=leak)
+    total = sum(d.values())
+    scale = sum(abs(v) for v in d.values()) + 1e-300
+    assert abs(total) <= 1e-12 * scale
+
+
+# ---------------------------------------------------------------- cylinder
+CYL = dict(A_A=3e-3, A_B=1.8e-3, stroke=0.5, V0_A=1e-4, V0_B=8e-5, k_stop=1e8, c_stop=1e5, dx_stop=1e-4)
+
+
+def cyl(x, v, pA=100 * BAR, pB=20 * BAR, **over):
+    return named(Cylinder, Cylinder.derivatives(A=pA, B=pB, rod=v, x=x, **{**CYL, **over}))
+
+
+def test_cylinder_volumes_flows_force():
+    x, v, pA, pB = 0.2, 0.05, 100 * BAR, 20 * BAR
+    d = cyl(x, v, pA, pB)
+    assert d["V_A"] == pytest.approx(CYL["V0_A"] + CYL["A_A"] * x)
+    assert d["V_B"] == pytest.approx(CYL["V0_B"] + CYL["A_B"] * (CYL["stroke"] - x))
+    assert d["q_A"] == pytest.approx(-CYL["A_A"] * v)
+    assert d["q_B"] == pytest.approx(CYL["A_B"] * v)
+    assert d["f_rod"] == pytest.approx(pA * CYL["A_A"] - pB * CYL["A_B"])
+    assert d["der_x"] == v
+
+
+def test_cylinder_volume_rates_match_flows():
+    # dV_A/dt = A_A*v is exactly what the piston draws from net A (q_A = -dV_A/dt), likewise for B
+    x, v, h = 0.3, 0.1, 1e-6
+    d0, d1 = cyl(x, v), cyl(x + v * h, v)
+    assert (d1["V_A"] - d0["V_A"]) / h == pytest.approx(-d0["q_A"], rel=1e-6)
+    assert (d1["V_B"] - d0["V_B"]) / h == pytest.approx(-d0["q_B"], rel=1e-6)
+
+
+def test_cylinder_end_stops():
+    stroke, k = CYL["stroke"], CYL["k_stop"]
+    f_free = cyl(0.25, 0.0)["f_rod"]
+    # inside the stroke: no stop force
+    assert cyl(0.0, 0.0)["f_rod"] == pytest.approx(f_free) and cyl(stroke, 0.0)["f_rod"] == pytest.approx(f_free)
+    # beyond the ends the spring pushes back in, the damper opposes motion
+    d = 1e-3
+    assert cyl(stroke + d, 0.0)["f_rod"] == pytest.approx(f_free - k * d)
+    assert cyl(-d, 0.0)["f_rod"] == pytest.approx(f_free + k * d)
+    assert cyl(stroke + d, 0.1)["f_rod"] == pytest.approx(f_free - k * d - CYL["c_stop"] * 0.1)
+    assert cyl(-d, -0.1)["f_rod"] == pytest.approx(f_free + k * d + CYL["c_stop"] * 0.1)
+    # continuous at contact even while moving (damping fades in over dx_stop)
+    for x_edge, v in ((stroke, 0.2), (0.0, -0.2)):
+        assert cyl(x_edge + 1e-12, v)["f_rod"] == pytest.approx(cyl(x_edge - 1e-12, v)["f_rod"], abs=1e-2)
+    # volumes stay at least the dead volumes when the stops are penetrated
+    assert cyl(-d, 0.0)["V_A"] == CYL["V0_A"]
+    assert cyl(stroke + d, 0.0)["V_B"] == CYL["V0_B"]
+
+
+# ---------------------------------------------------------------- numba: compiled == pure Python
+NUMBA_CASES = {
+    Orifice: dict(a=3e6, b=1e6, A=1e-5, Cd=0.7, dp_t=1e5, rho=RHO),
+    PressureSource: dict(p=2e7),
+    Tank: dict(p=0.0),
+    FlowSource: dict(q=1e-4),
+    FlowSourceSignal: dict(q=2e-4),
+    Volume: dict(V=1e-5),
+    VariableOrifice: dict(a=3e6, b=1e6, A=1e-5, Cd=0.7, dp_t=1e5, rho=RHO),
+    LaminarOrifice: dict(a=3e6, b=1e6, G=1e-12),
+    CheckValve: dict(a=1.5e5, b=0.0, **{k: v for k, v in CV.items()}),
+    ReliefValve: dict(a=2.05e7, b=1e5, **RV),
+    PressureSensor: dict(port=1e7),
+    FlowSensor: dict(a=2e6, b=1e6, R=1e10),
+    HydraulicMotor: dict(a=1e7, b=1e6, shaft=10.0, G_leak=1e-12, **MOTOR),
+    Valve43: dict(P=PS, T=PT, A=PA, B=PB, x=0.3, **{**VALVE, "A_leak": 1e-9}),
+    Cylinder: dict(A=1e7, B=2e6, rod=0.1, x=0.5002, **CYL),
+}
+
+
+@pytest.mark.parametrize("cls", list(NUMBA_CASES), ids=lambda c: c.type_name)
+def test_numba_compiled_matches_python(cls):
+    values = NUMBA_CASES[cls]
+    for fn_name in ("outputs", "derivatives"):
+        fn = getattr(cls, fn_name)
+        if fn is None:
+            continue
+        args = [float(values[name]) for name in argument_names(fn)]
+        expected = fn(*args)
+        got = numba.njit(fn)(*args)
+        assert len(got) == len(expected)
+        for g, e in zip(got, expected):
+            assert g == pytest.approx(e, rel=1e-12, abs=1e-300)
