@@ -239,3 +239,31 @@ def split_quantity(text: str) -> tuple[float, str]:
     if not m:
         raise UnitError(f"'{text}' is not '<number> <unit>'")
     return float(m.group("value")), m.group("unit")
+
+
+_INLINE_QUANTITY = re.compile(
+    r"(?<![\w.])(?P<value>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s+(?P<unit>[A-Za-z%][A-Za-z0-9%]*(?:\s*(?:\^|\*\*)\s*-?\d+(?:\.\d+)?)?(?:\s*[*/·]\s*[A-Za-z%][A-Za-z0-9%]*(?:\s*(?:\^|\*\*)\s*-?\d+(?:\.\d+)?)?)*)"
+)
+
+
+def substitute_quantities(text: str) -> str:
+    """Replace each "<number> <unit>" inside an expression by its SI value in parentheses.
+
+    ``"23000 kg + m_payload"`` -> ``"(23000.0) + m_payload"``; ``"2*30 cm^3/rev"`` -> ``"2*(4.77e-06)"``.
+    A unit must follow its number after a space; text that is not a known unit is left alone.
+    """
+
+    def replace(match: re.Match) -> str:
+        unit_text = match.group("unit")
+        # the longest prefix that parses as a unit: in "3 bar * k" the unit is "bar", "* k" stays
+        cuts = [m.start() for m in re.finditer(r"\s*[*/·]", unit_text)] + [len(unit_text)]
+        for cut in reversed(cuts):
+            try:
+                factor = parse_unit(unit_text[:cut]).factor
+            except UnitError:
+                continue
+            rest = unit_text[cut:]
+            return f"({float(match.group('value')) * factor!r}){rest}"
+        return match.group(0)
+
+    return _INLINE_QUANTITY.sub(replace, text)

@@ -19,7 +19,7 @@ from blocks import registry
 from blocks.block import Block, PortKind
 from blocks.errors import NetlistError
 from blocks.netlist import spec
-from blocks.netlist.parameters import Entry, ParameterTable, make_entry
+from blocks.netlist.parameters import Entry, ParameterTable, make_array_entry, make_entry
 from blocks.netlist.yaml_source import Located, read_yaml
 from blocks.units import UnitError, nearest, parse_unit, quantity
 
@@ -220,9 +220,9 @@ class _Builder:
             if param.name in comp.params:
                 raw = comp.params[param.name]
                 if param.array:
-                    value = self._array_value(raw, param, located, ppath, name)
-                    flat.array_lengths[param.name] = len(value)
-                    self.table.add(Entry(entry_name, param.unit, value, None, scope, located, ppath, param))
+                    entry = self._array_entry(entry_name, raw, param, located, ppath, name, scope)
+                    flat.array_lengths[param.name] = len(entry.elements or entry.constant)
+                    self.table.add(entry)
                     continue
                 if isinstance(raw, (list, spec.CsvColumn)):
                     raise located.error(ppath, f"{name}: {param.name} takes a single value, not a list")
@@ -249,21 +249,13 @@ class _Builder:
                                       path + ("initial", key)))
         self.components[qualified] = flat
 
-    def _array_value(self, raw, param, located: Located, path: tuple, name: str) -> tuple:
+    def _array_entry(self, entry_name, raw, param, located: Located, path: tuple, name: str, scope) -> Entry:
         if isinstance(raw, spec.CsvColumn):
-            return read_csv_column(Path(located.file).parent / raw.csv, raw.column, param.unit, located, path)
+            values = read_csv_column(Path(located.file).parent / raw.csv, raw.column, param.unit, located, path)
+            return Entry(entry_name, param.unit, values, None, scope, located, path, param)
         if not isinstance(raw, list) or not raw:
             raise located.error(path, f"{name}: {param.name} takes a non-empty list of values or {{csv:, column:}}")
-        values = []
-        for i, item in enumerate(raw):
-            try:
-                values.append(quantity(item, param.unit))
-            except UnitError as exc:
-                raise located.error(path + (i,), f"{name}: {param.name}[{i}]: {exc}") from None
-        problem = param.check(tuple(values))
-        if problem:
-            raise located.error(path, f"{name}: {problem}")
-        return tuple(values)
+        return make_array_entry(entry_name, raw, param.unit, scope, located, path, param)
 
     def _add_subsystem(self, prefix: str, name: str, sub: spec.Subsystem, located: Located, scope: dict,
                        stack: tuple) -> None:

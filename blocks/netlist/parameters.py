@@ -16,7 +16,7 @@ import networkx as nx
 from blocks.errors import NetlistError
 from blocks.expressions import ExpressionError, parse_expression, Expression
 from blocks.netlist.yaml_source import Located
-from blocks.units import UnitError, parse_unit, quantity, split_quantity, _QUANTITY
+from blocks.units import UnitError, parse_unit, quantity, split_quantity, substitute_quantities, _QUANTITY
 
 
 @dataclass
@@ -31,6 +31,14 @@ class Entry:
     source: Located
     path: tuple
     bounds: object | None = None  # a blocks.block.Param to check bounds with
+    elements: list | None = None  # an array of constants and expressions (array parameters)
+
+    def dependencies(self) -> set[str]:
+        found = set(self.expression.names) if self.expression is not None else set()
+        for item in self.elements or ():
+            if isinstance(item, Expression):
+                found |= item.names
+        return found
 
     def error(self, message: str) -> NetlistError:
         return self.source.error(self.path, message)
@@ -53,9 +61,7 @@ class ParameterTable:
             graph = nx.DiGraph()
             graph.add_nodes_from(self.entries)
             for entry in self.entries.values():
-                if entry.expression is None:
-                    continue
-                for local in entry.expression.names:
+                for local in entry.dependencies():
                     target = entry.scope.get(local)
                     if target is None or target not in self.entries:
                         near = [n for n in entry.scope if n in self.entries or entry.scope[n] in self.entries]
@@ -63,7 +69,7 @@ class ParameterTable:
 
                         hint = nearest(local, near)
                         raise entry.error(
-                            f"unknown parameter '{local}' in '{entry.expression.text}'"
+                            f"unknown parameter '{local}' in {entry.name}"
                             + (f" (did you mean {', '.join(hint)}?)" if hint else "")
                         )
                     graph.add_edge(target, entry.name)
@@ -91,10 +97,14 @@ class ParameterTable:
             entry = self.entries[name]
             if name in overrides:
                 value = overrides[name]
-            elif entry.expression is not None:
-                local = {n: values[q] for n, q in entry.scope.items() if n in entry.expression.names}
+            elif entry.expression is not None or entry.elements is not None:
+                local = {n: values[q] for n, q in entry.scope.items() if n in entry.dependencies()}
                 try:
-                    value = entry.expression.evaluate(local)
+                    if entry.elements is not None:
+                        value = tuple(item.evaluate(local) if isinstance(item, Expression) else item
+                                      for item in entry.elements)
+                    else:
+                        value = entry.expression.evaluate(local)
                 except ExpressionError as exc:
                     raise entry.error(str(exc)) from None
             else:
@@ -127,10 +137,22 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
             except UnitError as exc:
                 unit_problem = exc  # may still be an expression such as "0.085 + m_load*r**2"
         try:
-            expression = parse_expression(raw)
+            expression = parse_expression(substitute_quantities(raw))
         except ExpressionError as exc:
             raise source.error(path, f"{name}: {unit_problem or exc}") from None
         if unit_problem is not None and "wrong unit" in str(unit_problem):
             raise source.error(path, f"{name}: {unit_problem}")
         return Entry(name, unit, None, expression, scope, source, path, bounds)
     raise source.error(path, f"{name}: expected a single value, got {type(raw).__name__}")
+
+
+def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], source: Located, path: tuple,
+                     bounds=None) -> Entry:
+    """An array parameter: each element a number, '<number> <unit>' or an expression."""
+    elements = []
+    for i, item in enumerate(raw):
+        single = make_entry(f"{name}[{i}]", item, unit, scope, source, path + (i,))
+        elements.append(single.expression if single.expression is not None else single.constant)
+    if all(not isinstance(e, Expression) for e in elements):
+        return Entry(name, unit, tuple(elements), None, scope, source, path, bounds)
+    return Entry(name, unit, None, None, scope, source, path, bounds, elements)
