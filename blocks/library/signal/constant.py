@@ -6,7 +6,10 @@ from blocks.registry import register
 
 @register("constant")
 class Constant(Block):
-    """Constant signal: y = value."""
+    """Constant signal: y = value.
+
+    y = value   (no inputs, no states; value and y in the SI unit of the signal)
+    """
 
     ports = (signal_out("y", "the constant"),)
     params = (Param("value", "1", 0.0, None, None, "the output value (SI)"),)
