@@ -57,11 +57,11 @@ class Circuit:
         self.pattern = jacobian_pattern(self.structure)
         self.groups, self.n_groups = _colour_columns(self.pattern)
         source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs])
-        from blocks.solve.template import build_module
+        from blocks.solve.generated import build_module
 
-        self.module = build_module(source, cache_dir(), Path(flat.file).stem)
-        self._compiled = False
-        self._quiet = quiet
+        announce = None if quiet else lambda: print(
+            "vphs: compiling the circuit (once per structure; cached afterwards)...", file=sys.stderr, flush=True)
+        self.module = build_module(source, cache_dir(), Path(flat.file).stem, on_compile=announce)
 
     @classmethod
     def from_file(cls, file: str | Path, quiet: bool = True) -> "Circuit":
@@ -122,13 +122,10 @@ class Circuit:
         """Run the circuit; raise :class:`SimulationError` if the solver fails."""
         settings = settings or self.settings
         vec = self.vectors(overrides)
-        if not self._compiled and not self._quiet:
-            print("compiling the circuit (first run of this structure; cached afterwards)...", file=sys.stderr, flush=True)
         from blocks.solve.run import solve
 
         started = time.perf_counter()
         outcome = solve(self, vec, settings)
-        self._compiled = True
         elapsed = time.perf_counter() - started
         result = Result(
             file=self.flat.file,

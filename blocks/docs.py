@@ -1,43 +1,137 @@
-"""The netlist reference, generated from the block registry so that it cannot drift from the code."""
+"""The netlist reference, generated from the code so that it cannot drift from it.
+
+``vphs docs`` writes it to ``docs/netlist-reference.md``; a test compares the committed file with
+:func:`reference_text`. What is generated, and from where:
+
+- the file format: the sections, keys, shapes and defaults from the pydantic models of
+  :mod:`blocks.netlist.spec`, the example from that module's docstring, the solver names from
+  ``Simulation.solver``; the meaning of each key is the text in :data:`FIELD_TEXT` (a test makes sure
+  every key of the schema has one);
+- the value syntax: the known units from :data:`blocks.units.UNITS`, the functions and constants of
+  :mod:`blocks.expressions`;
+- the blocks: every registered type (:mod:`blocks.registry`) with its docstring, ports, parameters,
+  states and feedthrough, grouped by library.
+"""
 
 from __future__ import annotations
 
 import inspect
+import re
+import types
+import typing
 from pathlib import Path
 
-from blocks.block import ACROSS, Block
+from pydantic import BaseModel
+from pydantic_core import PydanticUndefined
+
+from blocks.block import ACROSS, CAPACITY, THROUGH, Block
 from blocks.result import atomic_write_text
 
-NETLIST_INTRO = """# Netlist reference
+# ---------------------------------------------------------------- what each key of the schema means
+FIELD_TEXT: dict[tuple[str, str], str] = {
+    ("Netlist", "description"): "Free text about the circuit (not interpreted).",
+    ("Netlist", "fluid"): "The fluid's properties; blocks with fluid parameters (rho, nu, beta) take them from "
+                          "here unless a component sets its own.",
+    ("Netlist", "defaults"): "Defaults for nets that do not set their own.",
+    ("Netlist", "parameters"): "Named values (with units or expressions) that components, nets and other "
+                               "parameters refer to by name. Overridable with `--set name=value`.",
+    ("Netlist", "components"): "The blocks, by instance name: `{type: <block type>, params: {...}, initial: {...}}`.",
+    ("Netlist", "subsystems"): "Other netlist files used as components, by instance name.",
+    ("Netlist", "nets"): "The connections: each net joins ports `<component>.<port>` (or a subsystem's exposed "
+                         "port `<subsystem>.<port>`). Long form `{ports: [...], volume:, bulk_modulus:, initial:}`, "
+                         "short form a plain list of ports.",
+    ("Netlist", "ports"): "What this file exposes when it is used as a subsystem: `<exposed name>: <net>` or "
+                          "`<exposed name>: <component>.<port>`.",
+    ("Netlist", "outputs"): "The logged signals, by column name: `{of: <reference>, unit: <display unit>}` or "
+                            "just the reference.",
+    ("Netlist", "simulation"): "Time span, output interval and solver.",
+    ("Fluid", "rho"): "Density [kg/m^3].",
+    ("Fluid", "nu"): "Kinematic viscosity [m^2/s].",
+    ("Fluid", "beta"): "Bulk modulus [Pa]: the stiffness of the oil in every hydraulic net that does not set "
+                       "its own `bulk_modulus`.",
+    ("Fluid", "vapour_pressure"): "Vapour pressure [Pa], gauge: a net whose pressure falls below it is "
+                                  "reported as cavitating (a warning after the run).",
+    ("Defaults", "volume"): "Volume [m^3] of every hydraulic net that neither sets `volume:` nor has a block "
+                            "storing oil on it (without it such a net is an error).",
+    ("Component", "type"): "The block type: one of the names in [Blocks](#blocks).",
+    ("Component", "params"): "Parameter values by name; a parameter left out takes its default (or the "
+                             "netlist's fluid property); a parameter without default must be given. Array "
+                             "parameters take a list or `{csv: <file>, column: <name>}`.",
+    ("Component", "initial"): "Start values of the block's scalar states by name (array states start at their "
+                              "default).",
+    ("Subsystem", "netlist"): "The netlist file, relative to this file's folder.",
+    ("Subsystem", "parameters"): "Overrides of that file's `parameters:`; the values are read in this file's "
+                                 "scope (they may use this file's parameter names).",
+    ("Net", "ports"): "The ports the net joins: `<component>.<port>` or `<subsystem>.<exposed port>`.",
+    ("Net", "volume"): "Hydraulic nets: the oil volume of the node [m^3], added to what blocks store on it.",
+    ("Net", "bulk_modulus"): "Hydraulic nets: the node's bulk modulus [Pa] (default: `fluid.beta`).",
+    ("Net", "initial"): "The across variable's start value: pressure [Pa] of a hydraulic net, speed [rad/s] "
+                        "or [m/s] of a mechanical one (default 0).",
+    ("Output", "of"): "What to log: a net name (its pressure or speed; for a signal net its driving output), "
+                      "`<component>.<port>` or `<component>.<state>` (scalar states).",
+    ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit).",
+    ("Simulation", "t_start"): "Start time [s].",
+    ("Simulation", "t_end"): "End time [s] (`--t-end` overrides it).",
+    ("Simulation", "dt_out"): "Interval of the logged samples [s] (not the solver's step).",
+    ("Simulation", "solver"): "The integrator: see [Solvers](#solvers) (`--solver` overrides it).",
+    ("Simulation", "rtol"): "Relative tolerance of the variable-step solvers.",
+    ("Simulation", "atol"): "Absolute tolerance, relative to each state's nominal size (1 bar for a pressure, "
+                            "1 rad/s for a speed, a block's declared nominal for its states).",
+    ("Simulation", "fixed_step"): "Step [s] of the `fixed` solver (required by it, ignored by the others).",
+    ("Simulation", "max_step"): "Largest step [s] the variable-step solvers may take (default: unlimited).",
+    ("Simulation", "max_steps"): "The run fails after this many steps.",
+    ("CsvColumn", "csv"): "The CSV file, relative to the netlist's folder; header cells `name [unit]`.",
+    ("CsvColumn", "column"): "The column's name (with or without its `[unit]`); the values are converted from "
+                             "the header's unit to the parameter's SI unit.",
+}
 
-Generated by `vphs docs` from the block registry: do not edit by hand.
+SOLVER_TEXT = {
+    "rodas": "Default. A compiled, L-stable Rosenbrock method (hydraulic circuits are stiff) with variable "
+             "step and error control, finite-difference Jacobian grouped by the netlist's sparsity.",
+    "fixed": "The same Rosenbrock method at the constant step `fixed_step`, without error control.",
+    "lsoda": "scipy's `solve_ivp(method='LSODA')` on the same compiled right-hand side (switches between "
+             "stiff and non-stiff methods).",
+    "bdf": "scipy's `solve_ivp(method='BDF')`, given the Jacobian's sparsity from the netlist graph.",
+    "radau": "scipy's `solve_ivp(method='Radau')`, given the Jacobian's sparsity from the netlist graph.",
+}
 
-A netlist is a YAML file with the sections `fluid`, `defaults`, `parameters`, `components`, `subsystems`,
-`nets`, `ports`, `outputs` and `simulation` (see `blocks/netlist/spec.py`). Values are SI numbers or strings
-`"<number> <unit>"` (checked against the declared unit) or expressions over parameter names (SI).
-Pressures are gauge. Sign convention: a block's through value at a port is what it delivers to the net
-(flow into the hydraulic node, torque or force on the rigid node).
+LIBRARIES = (  # module prefix -> section title, in the order they appear
+    ("blocks.library.hydraulic", "Hydraulic blocks"),
+    ("blocks.library.mechanical", "Mechanical blocks"),
+    ("blocks.library.signal", "Signal blocks"),
+    ("vphs_blocks", "Crane components"),
+)
 
+HEADER = """# Netlist reference
+
+Generated by `vphs docs` from the code (the netlist schema in `blocks/netlist/spec.py` and the block
+registry): do not edit by hand; run `vphs docs` after changing a block or the schema.
 """
 
 
-def block_reference(cls: type[Block]) -> str:
-    doc = inspect.getdoc(cls) or ""
-    lines = [f"## `{cls.type_name}`", "", doc, "", "| port | kind | carries | description |", "|---|---|---|---|"]
+# ---------------------------------------------------------------- one block
+def block_reference(cls: type[Block], level: int = 2) -> str:
+    """A block's reference: docstring, ports, parameters, states, feedthrough (``level``: heading depth)."""
+    doc = (inspect.getdoc(cls) or "").split("\n", 1)
+    lines = [f"{'#' * level} `{cls.type_name}`", "", doc[0].strip(), ""]
+    if len(doc) > 1 and doc[1].strip():  # the equations, verbatim (Markdown would reflow them)
+        lines += ["```text", doc[1].strip("\n"), "```", ""]
+    lines += ["| port | kind | carries | description |", "|---|---|---|---|"]
     for p in cls.ports:
         kind = p.kind.value + (f" {p.direction}" if p.direction else "") + (" (optional)" if p.optional else "")
         carries = p.unit if not p.physical else f"{ACROSS[p.kind][0]} [{ACROSS[p.kind][1]}]" + (" + stores" if p.stores else "")
-        lines.append(f"| `{p.name}` | {kind} | {carries} | {p.description} |")
+        lines.append(f"| `{p.name}` | {kind} | {carries} | {_cell(p.description)} |")
     if cls.params:
         lines += ["", "| parameter | unit | default | bounds | description |", "|---|---|---|---|---|"]
         for p in cls.params:
             default = f"fluid.{p.fluid}" if p.fluid else ("required" if p.default is None else _fmt(p.default))
             bounds = f"[{_fmt(p.lower)}, {_fmt(p.upper)}]"
-            lines.append(f"| `{p.name}` | {p.unit} | {default} | {bounds} | {p.description} |")
+            kind = " (array)" if p.array else (" (integer)" if p.integer else "")
+            lines.append(f"| `{p.name}`{kind} | {p.unit} | {default} | {bounds} | {_cell(p.description)} |")
     if cls.states:
         lines += ["", "| state | unit | start | description |", "|---|---|---|---|"]
         for s in cls.states:
-            lines.append(f"| `{s.name}`{' (array)' if s.size else ''} | {s.unit} | {_fmt(s.start)} | {s.description} |")
+            lines.append(f"| `{s.name}`{' (array)' if s.size else ''} | {s.unit} | {_fmt(s.start)} | {_cell(s.description)} |")
     feed = cls.feedthrough()
     lines += ["", f"Direct feedthrough: {', '.join(f'`{f}`' for f in feed) if feed else 'none'}."]
     if cls.prescribes:
@@ -45,6 +139,10 @@ def block_reference(cls: type[Block]) -> str:
     if cls.rigid_link:
         lines.append(f"Rigid link: `{cls.rigid_link[1]}` moves at ratio(params) times `{cls.rigid_link[0]}`.")
     return "\n".join(lines) + "\n"
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|").replace("\n", " ")
 
 
 def _fmt(value) -> str:
@@ -55,14 +153,250 @@ def _fmt(value) -> str:
     return f"{value:g}"
 
 
+def anchor(heading: str) -> str:
+    """GitHub's anchor for a heading: lower case, punctuation dropped, spaces to hyphens."""
+    text = heading.strip().lower().replace("`", "")
+    text = re.sub(r"[^\w\- ]", "", text)
+    return text.replace(" ", "-")
+
+
+def library_of(cls: type[Block]) -> str:
+    for prefix, title in LIBRARIES:
+        if cls.__module__ == prefix or cls.__module__.startswith(prefix + "."):
+            return title
+    return "Other blocks"
+
+
+# ---------------------------------------------------------------- the file format
+def _shape(annotation) -> str:
+    """A reader's name for a schema type: value, list of ports, mapping name -> ..."""
+    from blocks.netlist import spec
+
+    if annotation == spec.Value or annotation == typing.Optional[spec.Value]:
+        return "value"
+    if annotation is str:
+        return "text"
+    if annotation is float:
+        return "number"
+    if annotation is int:
+        return "integer"
+    if isinstance(annotation, type) and issubclass(annotation, BaseModel):
+        return "mapping (below)"
+    origin, args = typing.get_origin(annotation), typing.get_args(annotation)
+    if origin is typing.Literal:
+        return "one of " + ", ".join(f"`{a}`" for a in args)
+    if origin is dict:
+        return f"mapping name: {_shape(args[1])}"
+    if origin is list:
+        return f"list of {_shape(args[0])}s"
+    if origin in (typing.Union, types.UnionType):
+        members = [a for a in args if a is not type(None)]
+        scalars = {float, int, str}
+        if set(members) >= scalars:
+            rest = [a for a in members if a not in scalars]
+            return " or ".join(["value"] + [_shape(a) for a in rest])
+        return " or ".join(_shape(a) for a in members)
+    return str(annotation)
+
+
+def _default(field) -> str:
+    if field.default_factory is not None:
+        made = field.default_factory()
+        return "{}" if made == {} else ("[]" if made == [] else "see below")
+    if field.default is PydanticUndefined:
+        return "required"
+    if field.default is None:
+        return "-"
+    if field.default == "":
+        return '`""`'
+    return f"`{field.default}`" if isinstance(field.default, str) else f"`{field.default:g}`" \
+        if isinstance(field.default, float) else f"`{field.default}`"
+
+
+def schema_table(model: type[BaseModel]) -> str:
+    lines = ["| key | shape | default | meaning |", "|---|---|---|---|"]
+    for name, field in model.model_fields.items():
+        text = FIELD_TEXT.get((model.__name__, name)) or field.description or ""
+        lines.append(f"| `{name}` | {_shape(field.annotation)} | {_default(field)} | {_cell(text)} |")
+    return "\n".join(lines) + "\n"
+
+
+def schema_models() -> list[type[BaseModel]]:
+    from blocks.netlist import spec
+
+    return [spec.Netlist, spec.Fluid, spec.Defaults, spec.Component, spec.CsvColumn, spec.Subsystem, spec.Net,
+            spec.Output, spec.Simulation]
+
+
+def undocumented_fields() -> list[str]:
+    """Schema keys without a meaning in FIELD_TEXT or a pydantic description (a test keeps this empty)."""
+    return [f"{m.__name__}.{name}" for m in schema_models() for name, field in m.model_fields.items()
+            if not (FIELD_TEXT.get((m.__name__, name)) or field.description)]
+
+
+def _example() -> str:
+    from blocks.netlist import spec
+
+    doc = inspect.getdoc(spec) or ""
+    block = doc.split("::", 1)[1].split("\n\n", 2)[1] if "::" in doc else ""
+    return "```yaml\n" + inspect.cleandoc(block) + "\n```\n"
+
+
+def _units_table() -> str:
+    from blocks.units import DIMENSION_NAMES, UNITS
+
+    groups: dict[tuple, list[str]] = {}
+    for name, unit in UNITS.items():
+        groups.setdefault(unit.dims, []).append(name)
+    lines = ["| dimension | units |", "|---|---|"]
+    for dims, names in groups.items():
+        parts = [f"{n}^{e:g}" if e != 1 else n for n, e in zip(DIMENSION_NAMES, dims) if e]
+        lines.append(f"| {'*'.join(parts) or '1'} | {', '.join(f'`{n}`' for n in names)} |")
+    return "\n".join(lines) + "\n"
+
+
+def file_format() -> str:
+    from blocks import expressions
+    from blocks.netlist import spec
+
+    solvers = typing.get_args(spec.Simulation.model_fields["solver"].annotation)
+    across = ", ".join(f"{k.value}: {ACROSS[k][0]} [{ACROSS[k][1]}] / {THROUGH[k][0]} [{THROUGH[k][1]}] / "
+                       f"{CAPACITY[k][0]} [{CAPACITY[k][1]}]" for k in ACROSS)
+    sections = [
+        "## The netlist file",
+        "",
+        "A netlist is a YAML file (the safe subset: no tags, no duplicate keys) describing a circuit as its "
+        "drawing sheet does: components, the nets joining their ports, and what to log. Every section is "
+        "optional. An example with every section:",
+        "",
+        _example(),
+        "### Sections",
+        "",
+        schema_table(spec.Netlist),
+        "### Values and units",
+        "",
+        "Everything inside is SI; units are read where values enter. A value is",
+        "",
+        "- a number: taken as SI (`0.7`, `2e-4`);",
+        "- a string `\"<number> <unit>\"`: converted to SI and checked against the declared unit's dimension "
+        "(`\"207 bar\"`, `\"30 cm^3/rev\"`, `\"52.6 rad/s\"`); a wrong dimension is an error that names both;",
+        "- an expression over parameter names (SI), which may contain quantities: "
+        "`\"0.085 + m_load*r_pinion**2/n_gear**2\"`, `\"23000 kg + m_payload\"`. Operators `+ - * / ** %`, "
+        "parentheses, the functions " + ", ".join(f"`{f}`" for f in expressions.FUNCTIONS) +
+        " and the constants " + ", ".join(f"`{c}`" for c in expressions.CONSTANTS) + ". Nothing else "
+        "(no attributes, no calls of anything else): a netlist cannot run code.",
+        "",
+        "Units combine with `*` (or a space), `/` and `^` (`\"m^3/(s*Pa)\"`, `\"N*m*s/rad\"`). Angle is a "
+        "dimension of its own, so `rev`, `rpm` and `Hz` convert to radians (1 Hz = 2π rad/s) and a "
+        "displacement in `cm^3/rev` fits a parameter in `m^3/rad`. Pressures are gauge. Known units:",
+        "",
+        _units_table(),
+        "Array parameters (tables, coefficients) take a list of values (`[0, 0.5 s, t_acc]`) or a column "
+        "of a CSV file:",
+        "",
+        schema_table(spec.CsvColumn),
+        "Netlist parameters (`parameters:`) may carry any unit (`\"7500 kg\"`) and are stored in SI; the "
+        "parameter that uses them checks the dimension. Every value has a qualified name that `vphs run "
+        "--set` overrides, everything depending on it following: `m_load`, `valve.A_max`, "
+        "`bridge.valve.A_max` (inside subsystem `bridge`), `A.volume`, `A.initial`, `valve.initial.x`, "
+        "`fluid.rho`.",
+        "",
+        "### Fluid and defaults",
+        "",
+        schema_table(spec.Fluid),
+        schema_table(spec.Defaults),
+        "### Components",
+        "",
+        schema_table(spec.Component),
+        "A parameter's bounds (in the block tables below) are checked when values are evaluated, and so are "
+        "the relations between parameters a block checks (a table's breakpoints increasing, a lower limit "
+        "below the upper).",
+        "",
+        "### Nets",
+        "",
+        schema_table(spec.Net),
+        "A net's kind is the kind of the ports it joins (all must agree). Across / through / capacity per "
+        f"kind: {across}.",
+        "",
+        "- A **hydraulic** net is a node with a pressure state: dp/dt = β/V·Σq, V its `volume` plus what "
+        "blocks store on it (cylinder chambers, `volume` blocks). A net with a pressure source on it has no "
+        "state.",
+        "- A **rotational** or **translational** net is a rigid node: J·dω/dt = Στ (m·dv/dt = Σf), the "
+        "inertia (mass) the sum of what is attached; it needs at least one block that stores inertia or "
+        "mass. Gears and rack-and-pinions join nets into one rigid body.",
+        "- A **signal** net joins exactly one output to any number of inputs (an optional input may stay "
+        "unconnected and reads 0).",
+        "",
+        "Sign convention: the through value a block returns at a port is what it delivers to the net (flow "
+        "into the node, torque or force acting on it).",
+        "",
+        "### Subsystems",
+        "",
+        schema_table(spec.Subsystem),
+        "A subsystem is another netlist file used as a component. Its names are qualified by the "
+        "subsystem's name (`bridge.valve`, `bridge.A`, `bridge.m_load`); its `ports:` section says which of "
+        "its nets or ports the outer file may connect (`P: P` exposes net `P` as `bridge.P`). Nets merged "
+        "through an exposed port add their volumes; an outer `initial` wins. A file may not include itself, "
+        "and nesting is limited in depth.",
+        "",
+        "### Outputs",
+        "",
+        schema_table(spec.Output),
+        "With no `outputs:` section nothing is logged but the time; `vphs run` writes the logged signals to "
+        "CSV (header `name [unit]`) and, with `--plot`, a PNG.",
+        "",
+        "### Simulation",
+        "",
+        schema_table(spec.Simulation),
+        "### Solvers",
+        "",
+        "| solver | what it is |",
+        "|---|---|",
+    ]
+    for name in solvers:
+        sections.append(f"| `{name}` | {SOLVER_TEXT.get(name, '')} |")
+    sections.append("")
+    return "\n".join(sections) + "\n"
+
+
+# ---------------------------------------------------------------- the whole reference
 def reference_text() -> str:
+    """The whole netlist reference (Markdown): contents, the file format, every registered block."""
     from blocks import registry
 
-    parts = [NETLIST_INTRO]
-    for name, cls in registry.all_types().items():
-        parts.append(block_reference(cls))
-    return "\n".join(parts)
+    types = registry.all_types()
+    grouped: dict[str, list[type[Block]]] = {}
+    order = [title for _, title in LIBRARIES] + ["Other blocks"]
+    for cls in types.values():
+        grouped.setdefault(library_of(cls), []).append(cls)
+    fmt = file_format()
+
+    toc = ["## Contents", ""]
+    for line in fmt.splitlines():
+        if line.startswith("## ") or line.startswith("### "):
+            title = line.lstrip("#").strip()
+            indent = "  " if line.startswith("### ") else ""
+            toc.append(f"{indent}- [{title}](#{anchor(title)})")
+    toc.append("- [Blocks](#blocks)")
+    for title in order:
+        if title in grouped:
+            names = ", ".join(f"[`{c.type_name}`](#{anchor(c.type_name)})" for c in grouped[title])
+            toc.append(f"  - [{title}](#{anchor(title)}): {names}")
+    toc.append("")
+
+    blocks = ["## Blocks", "",
+              f"{len(types)} block types. Each lists its ports (what a net connects), parameters (SI units, "
+              "defaults, bounds), states, and its direct feedthrough: the inputs its outputs read at once "
+              "(an algebraic loop through feedthrough inputs is an error).", ""]
+    for title in order:
+        if title not in grouped:
+            continue
+        blocks += [f"### {title}", ""]
+        for cls in grouped[title]:
+            blocks.append(block_reference(cls, level=4))
+    return "\n".join([HEADER, "\n".join(toc), fmt.rstrip("\n") + "\n", "\n".join(blocks)]).rstrip("\n") + "\n"
 
 
 def write_reference(path: str | Path) -> None:
     atomic_write_text(Path(path), reference_text())
+

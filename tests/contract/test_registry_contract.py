@@ -20,6 +20,7 @@ cannot forget one of it:
 from __future__ import annotations
 
 import inspect
+import itertools
 import math
 import sys
 
@@ -234,6 +235,9 @@ def test_declarations(name):
     assert len(ports) == len(set(ports)), f"{name}: duplicate port names"
 
     params = default_params(cls)
+    for p in cls.params:
+        assert p.check(tuple(params[p.name]) if p.array else params[p.name]) is None, \
+            f"{name}: the test's default point is out of bounds: {p.check(params[p.name])}"
     problem = cls.check_values(params)
     assert problem is None, f"{name}: the test's default point fails check_values ({problem}); add it to PLAUSIBLE"
     point = operating_points(cls)[0]
@@ -320,8 +324,7 @@ def _jit(fn):
 @pytest.mark.parametrize("name", NAMES)
 def test_numba_compiles_and_agrees(name):
     cls = TYPES[name]
-    point = operating_points(cls)[1]
-    for fn_name in ("outputs", "derivatives", "ratio"):
+    for point, fn_name in itertools.product(operating_points(cls), ("outputs", "derivatives", "ratio")):
         fn = getattr(cls, fn_name)
         if fn is None:
             continue
