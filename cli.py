@@ -165,7 +165,8 @@ def cmd_run(args) -> int:
         if settings.t_end <= settings.t_start:
             raise ArgumentError("vphs: --t-end must be after the start time")
     try:
-        result = circuit.simulate(overrides, settings)
+        # always in slices (results do not depend on -q); progress shows only for runs longer than 1 s
+        result = circuit.simulate(overrides, settings, progress=_progress_printer(silent=args.quiet))
     except KeyError as exc:
         raise ArgumentError(f"vphs: {exc.args[0]}") from None
     for warning in result.warnings:
@@ -182,6 +183,22 @@ def cmd_run(args) -> int:
               f"({settings.solver}; {stats})" + (f"; wrote {args.output}" if args.output else "")
               + (f", {args.plot}" if args.plot else ""), file=sys.stderr)
     return 0
+
+
+def _progress_printer(silent: bool):
+    """Progress on stderr for runs that take more than a second (nothing for quick ones)."""
+    state = {"shown": False}
+
+    def show(fraction: float, seconds: float) -> None:
+        if silent or (seconds < 1.0 and not state["shown"]):
+            return
+        state["shown"] = True
+        eta = seconds / fraction - seconds if fraction > 0 else float("nan")
+        end = "\n" if fraction >= 1.0 else ""
+        print(f"\rvphs: {100 * fraction:5.1f} % simulated, {seconds:6.1f} s elapsed, ~{eta:5.1f} s left",
+              end=end, file=sys.stderr, flush=True)
+
+    return show
 
 
 def cmd_blocks(args) -> int:

@@ -118,14 +118,17 @@ class Circuit:
             net = parent
 
     # ---- simulation -----------------------------------------------------------------------------------
-    def simulate(self, overrides: dict[str, float] | None = None, settings: SolverSettings | None = None) -> Result:
-        """Run the circuit; raise :class:`SimulationError` if the solver fails."""
+    def simulate(self, overrides: dict[str, float] | None = None, settings: SolverSettings | None = None,
+                 progress=None) -> Result:
+        """Run the circuit; raise :class:`SimulationError` if the solver fails.
+
+        ``progress(fraction, seconds)`` is called as the run advances, if given."""
         settings = settings or self.settings
         vec = self.vectors(overrides)
         from blocks.solve.run import solve
 
         started = time.perf_counter()
-        outcome = solve(self, vec, settings)
+        outcome = solve(self, vec, settings, progress)
         elapsed = time.perf_counter() - started
         result = Result(
             file=self.flat.file,

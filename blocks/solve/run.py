@@ -45,23 +45,54 @@ def atol_vector(circuit, settings: SolverSettings) -> np.ndarray:
         if circuit.structure.states else np.zeros(0)
 
 
-def solve(circuit, vec, settings: SolverSettings) -> Outcome:
+def solve(circuit, vec, settings: SolverSettings, progress=None) -> Outcome:
+    """``progress(fraction, seconds)``, if given, is called as the run advances (compiled solvers only)."""
     t_out = output_times(settings)
     atol = atol_vector(circuit, settings)
     if settings.solver in ("rodas", "fixed"):
-        return _solve_compiled(circuit, vec, settings, t_out, atol)
+        return _solve_compiled(circuit, vec, settings, t_out, atol, progress)
     return _solve_scipy(circuit, vec, settings, t_out, atol)
 
 
-def _solve_compiled(circuit, vec, settings, t_out, atol) -> Outcome:
+PROGRESS_CHUNKS = 50
+STAT_NAMES = ("steps", "rejected", "rhs_calls", "jacobians", "lu")
+
+
+def _solve_compiled(circuit, vec, settings, t_out, atol, progress) -> Outcome:
+    """One call to the compiled integrator; with ``progress``, consecutive calls over slices of the
+    output times (each restarts the step-size selection, which costs a few steps per slice)."""
     fixed = settings.fixed_step if settings.solver == "fixed" else 0.0
     n_obs = len(circuit.outputs)
-    status, t_reached, x_end, X, Y, x_min, _x_max, stats, bad = circuit.module.integrate(
-        vec.x0, vec.theta, t_out, settings.rtol, atol, 0.0, settings.max_step, settings.max_steps, fixed,
-        circuit.pattern, circuit.groups, circuit.n_groups, n_obs)
-    names = ("steps", "rejected", "rhs_calls", "jacobians", "lu")
-    return Outcome(int(status), t_out, X, Y, x_min, x_end, float(t_reached), int(bad),
-                   dict(zip(names, (int(s) for s in stats))))
+
+    def run(x0, times):
+        return circuit.module.integrate(x0, vec.theta, times, settings.rtol, atol, 0.0, settings.max_step,
+                                        settings.max_steps, fixed, circuit.pattern, circuit.groups,
+                                        circuit.n_groups, n_obs)
+
+    if progress is None or len(t_out) < 2 * PROGRESS_CHUNKS:
+        status, t_reached, x_end, X, Y, x_min, _x_max, stats, bad = run(vec.x0, t_out)
+        return Outcome(int(status), t_out, X, Y, x_min, x_end, float(t_reached), int(bad),
+                       dict(zip(STAT_NAMES, (int(s) for s in stats))))
+    import time
+
+    started = time.perf_counter()
+    K, n = len(t_out), len(vec.x0)
+    X, Y = np.full((K, n), np.nan), np.full((K, n_obs), np.nan)
+    x_min, total = vec.x0.copy(), np.zeros(len(STAT_NAMES), dtype=np.int64)
+    edges = np.linspace(0, K - 1, PROGRESS_CHUNKS + 1).astype(int)
+    x = vec.x0.copy()
+    status, t_reached, bad = 0, float(t_out[0]), -1
+    for a, b in zip(edges[:-1], edges[1:]):
+        status, t_reached, x_end, Xc, Yc, xmin_c, _xmax, stats, bad = run(x, t_out[a:b + 1])
+        X[a:b + 1], Y[a:b + 1] = Xc, Yc
+        np.minimum(x_min, xmin_c, out=x_min)
+        total += stats
+        x = x_end
+        progress(b / (K - 1), time.perf_counter() - started)
+        if status != 0:
+            break
+    return Outcome(int(status), t_out, X, Y, x_min, x, float(t_reached), int(bad),
+                   dict(zip(STAT_NAMES, (int(s) for s in total))))
 
 
 def _solve_scipy(circuit, vec, settings, t_out, atol) -> Outcome:

@@ -187,7 +187,7 @@ def test_relief_valve_closed_partly_open_full():
 
 
 # ---------------------------------------------------------------- motor
-MOTOR = dict(D=2 * 30e-6 / (2 * math.pi), J_m=0.0068)
+MOTOR = dict(D=2 * 30e-6 / (2 * math.pi), J_m=0.0068, eta_hm=1.0, w_w=0.1)
 
 
 def test_motor_flows_and_torque():
@@ -211,6 +211,21 @@ def test_motor_power_balance(pa, pb, w, G):
     assert abs(hydraulic_in - shaft_out - leak_loss) <= 1e-9 * scale
     if G == 0.0:
         assert (pa - pb) * MOTOR["D"] * w == pytest.approx(shaft_out, rel=1e-12, abs=1e-300)
+
+
+def test_motor_friction_is_the_lost_fraction_of_hydraulic_torque_opposing_motion():
+    """tau = tau_h - (1 - eta_hm)*|tau_h|*tanh(w/w_w): far from standstill the loss is (1 - eta_hm)|tau_h|."""
+    lossy = {**MOTOR, "eta_hm": 0.9}
+    tau_h = MOTOR["D"] * 130 * BAR
+    for w, sign in ((50.0, 1.0), (-50.0, -1.0)):
+        d = named(HydraulicMotor, HydraulicMotor.derivatives(a=150 * BAR, b=20 * BAR, shaft=w, G_leak=0.0, **lossy))
+        assert d["tau_shaft"] == pytest.approx(tau_h - sign * 0.1 * tau_h, rel=1e-9)
+    # braking (torque against motion): the loss still opposes the motion, so it adds to the braking torque
+    d = named(HydraulicMotor, HydraulicMotor.derivatives(a=20 * BAR, b=150 * BAR, shaft=50.0, G_leak=0.0, **lossy))
+    assert d["tau_shaft"] == pytest.approx(-tau_h - 0.1 * tau_h, rel=1e-9)
+    # continuous through standstill
+    d0 = named(HydraulicMotor, HydraulicMotor.derivatives(a=150 * BAR, b=20 * BAR, shaft=0.0, G_leak=0.0, **lossy))
+    assert d0["tau_shaft"] == pytest.approx(tau_h)
 
 
 # ---------------------------------------------------------------- 4/3 valve

@@ -126,31 +126,26 @@ def test_build_module(bank):
     assert list((bank.cache / "__pycache__").glob(f"{stem}.rhs_c-*.nbi"))
 
 
-def test_cold_vs_warm_compile(bank):
-    """A new process with the same cache dir loads integrate from numba's disk cache."""
+def test_new_process_loads_compiled_code_from_disk(bank):
+    """A new process with the same cache dir compiles nothing: numba loads the circuit's C callbacks and
+    the shared integrator from its disk cache (checked with numba's cache log, not with a timing)."""
     script = textwrap.dedent(f"""
-        import sys, time
+        import sys
         sys.path.insert(0, {str(REPO)!r})
         sys.path.insert(0, {str(Path(__file__).parent)!r})
-        import numpy as np
-        t0 = time.perf_counter()
         from test_rosenbrock import BANK, _call
         from blocks.solve.generated import build_module
         mod = build_module(BANK, {str(bank.cache)!r}, "rosbank")
-        t1 = time.perf_counter()
         r = _call(mod, 0, [1.0], [1.0], [0.0, 1.0])
-        t2 = time.perf_counter()
         assert r.status == 0
-        print(t1 - t0, t2 - t1)
     """)
-    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True,
-                         timeout=120, env={**os.environ, "PYTHONDONTWRITEBYTECODE": "1"})
+    out = subprocess.run([sys.executable, "-c", script], capture_output=True, text=True, timeout=120,
+                         env={**os.environ, "PYTHONDONTWRITEBYTECODE": "1", "NUMBA_DEBUG_CACHE": "1"})
     assert out.returncode == 0, out.stderr
     assert "Cannot cache" not in out.stderr
-    imp_s, warm_s = map(float, out.stdout.split())
-    print(f"\ncold first call {bank.cold_call_s:.2f} s; warm (new process) import "
-          f"{imp_s:.2f} s + first call {warm_s:.2f} s")
-    assert warm_s < 0.5 * bank.cold_call_s
+    log = out.stdout
+    assert "data saved" not in log, log
+    assert "rhs_c" in log and "integrate" in log and "data loaded" in log, log
 
 
 # --------------------------------------------------------------------------- accuracy
