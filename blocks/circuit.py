@@ -93,10 +93,14 @@ class Circuit:
         for body in st.bodies:
             if body.state is None:
                 continue
-            for net in body.members:
-                if f"{net}.initial" in values:
-                    x0[body.state.index] = values[f"{net}.initial"] / self._ratio_value(body, net, values)
-                    break
+            given = [net for net in body.members if f"{net}.initial" in values]
+            if len(given) > 1:
+                entry = self.flat.parameters.entries[f"{given[1]}.initial"]
+                raise entry.error(f"nets {', '.join(given)} move rigidly together; give the initial speed "
+                                  f"on one of them only")
+            if given:
+                net = given[0]
+                x0[body.state.index] = values[f"{net}.initial"] / self._ratio_value(body, net, values)
         for comp, slots in st.block_states.items():
             cls = self.flat.components[comp].cls
             for state in cls.states:
@@ -168,7 +172,8 @@ class Circuit:
             slot = next(s for s in self.structure.states if s.index <= outcome.bad_index < s.index + s.size)
             owners = self._owners(slot)
             value = outcome.x_end[outcome.bad_index] if outcome.x_end is not None else float("nan")
-            msg += f"; state {slot.name} = {value:.4g} {slot.unit} ({owners})"
+            unit = f" {slot.unit}" if slot.unit not in ("1", "") else ""
+            msg += f"; state {slot.name} = {value:.4g}{unit} ({owners})"
         finite = outcome.x_end is not None and np.all(np.isfinite(outcome.x_end))
         if outcome.x_end is not None and not finite:
             bad = [s.name for s in self.structure.states

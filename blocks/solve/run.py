@@ -95,39 +95,68 @@ def _solve_compiled(circuit, vec, settings, t_out, atol, progress) -> Outcome:
                    dict(zip(STAT_NAMES, (int(s) for s in total))))
 
 
+class _Stop(Exception):
+    def __init__(self, status: int, t: float, index: int):
+        self.status, self.t, self.index = status, t, index
+
+
 def _solve_scipy(circuit, vec, settings, t_out, atol) -> Outcome:
+    """scipy's solve_ivp on the compiled rhs. A non-finite state, or more rhs calls than ``max_steps``
+    (LSODA can loop for ever near a singularity), stops it with a located failure."""
     from scipy.integrate import solve_ivp
 
     rhs, observe = circuit.module.rhs, circuit.module.observe
     theta = vec.theta
     n = len(vec.x0)
+    calls = [0]
+    last_good = [float(t_out[0]), vec.x0.copy()]
 
     def fun(t, x):
+        calls[0] += 1
+        if not np.all(np.isfinite(x)):
+            raise _Stop(3, last_good[0], int(np.argmax(~np.isfinite(x))))
+        if calls[0] > settings.max_steps:
+            raise _Stop(2, last_good[0], -1)
         dx = np.empty(n)
         rhs(t, x, theta, dx)
+        last_good[0], last_good[1] = t, x
         return dx
 
     method = {"lsoda": "LSODA", "bdf": "BDF", "radau": "Radau"}[settings.solver]
-    options = dict(rtol=settings.rtol, atol=atol, t_eval=t_out)
+    options = dict(rtol=settings.rtol, atol=atol, dense_output=True)
     if settings.max_step > 0:
         options["max_step"] = settings.max_step
     if method in ("BDF", "Radau") and n > 0:
         options["jac_sparsity"] = circuit.pattern
+    status, t_reached, bad, sol = 0, float(t_out[-1]), -1, None
     with np.errstate(all="ignore"):
-        sol = solve_ivp(fun, (t_out[0], t_out[-1]), vec.x0, method=method, **options)
+        try:
+            sol = solve_ivp(fun, (t_out[0], t_out[-1]), vec.x0, method=method, **options)
+        except _Stop as stop:
+            status, t_reached, bad = stop.status, stop.t, stop.index
+        except (RuntimeError, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
+            status, t_reached = 3, last_good[0]  # e.g. BDF: "Factor is exactly singular"
+    if sol is not None and sol.status != 0:
+        status, t_reached = 1, float(sol.t[-1])
     K = len(t_out)
     X = np.full((K, n), np.nan)
     Y = np.full((K, len(circuit.outputs)), np.nan)
-    m = sol.y.shape[1]
-    X[:m] = sol.y.T
+    if sol is not None and sol.sol is not None:
+        reached = t_out <= sol.t[-1] + 1e-12 * max(1.0, abs(sol.t[-1]))
+        if reached.any():
+            X[reached] = sol.sol(t_out[reached]).T
+    elif sol is None:
+        X[0] = vec.x0
+    m = int(np.sum(np.all(np.isfinite(X), axis=1)))
     for k in range(m):
         observe(t_out[k], X[k], theta, Y[k])
     x_min = np.nanmin(X[:m], axis=0) if m else vec.x0.copy()
-    ok = sol.status == 0
-    bad = -1
-    if not ok and m:
-        last = X[m - 1]
-        bad = int(np.argmax(~np.isfinite(last))) if not np.all(np.isfinite(last)) else -1
-    return Outcome(0 if ok else 1, t_out, X, Y, x_min, X[m - 1] if m else vec.x0,
-                   float(t_out[m - 1]) if m else float(t_out[0]), bad,
-                   {"rhs_calls": int(sol.nfev), "jacobians": int(sol.njev), "lu": int(sol.nlu)})
+    x_end = X[m - 1] if m else vec.x0.copy()
+    if status != 0:
+        x_end = np.asarray(last_good[1], dtype=float)
+        if bad < 0 and n:  # name the state that has grown most, relative to its tolerance
+            bad = int(np.argmax(np.abs(np.nan_to_num(x_end, nan=np.inf)) / (atol + 1e-300)))
+    stats = {"rhs_calls": calls[0]}
+    if sol is not None:
+        stats.update(jacobians=int(sol.njev), lu=int(sol.nlu))
+    return Outcome(status, t_out, X, Y, x_min, x_end, t_reached, bad, stats)

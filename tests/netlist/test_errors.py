@@ -45,8 +45,12 @@ def hang_guard(seconds: int):
 
 @pytest.fixture(scope="module")
 def cli_cache(tmp_path_factory) -> Path:
-    """One VPHS_CACHE_DIR for every subprocess here, so a circuit structure is compiled at most once."""
-    return tmp_path_factory.mktemp("vphs_cache")
+    """One VPHS_CACHE_DIR for every subprocess here, warmed with base.yaml, so that no test below depends on
+    whether it is the first to compile base.yaml (test_bad_set_on_a_cold_cache covers that case)."""
+    cache = tmp_path_factory.mktemp("vphs_cache")
+    warm = run_cli(["run", str(CASES / "base.yaml"), "-q", "--t-end", "1 ms", "-o", str(cache / "warm.csv")], cache)
+    assert warm.returncode == 0, warm.stderr
+    return cache
 
 
 @dataclass
@@ -310,6 +314,18 @@ def test_vphs_run_bad_input_leaves_output_untouched(tmp_path, cli_cache, netlist
     _check_words(lines[0], words)
     assert out.read_text() == "previous results\n" and out.stat().st_mtime_ns == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["out.csv"], "stray files left"
+
+
+def test_bad_set_on_a_cold_cache(tmp_path):
+    """A bad --set is an argument error: one line, exit 2, even when base.yaml was never compiled.
+
+    ENGINE BUG (reported): cmd_run builds (compiles) the circuit before it reads --set, so on a cold cache
+    stderr has two lines: "vphs: compiling the circuit (once per structure; cached afterwards)..." and
+    then "vphs: --set 'nope=3': unknown parameter 'nope'".
+    """
+    proc = run_cli(["run", str(CASES / "base.yaml"), "--set", "nope=3"], tmp_path / "cold_cache")
+    assert proc.returncode == 2, (proc.returncode, proc.stderr)
+    assert len(proc.stderr.splitlines()) == 1, proc.stderr
 
 
 def test_set_out_of_bounds_names_the_override(cli_cache):

@@ -151,10 +151,13 @@ def check_mutant(folder: Path, doc: bytes) -> str:
     return outcome
 
 
-FUZZ = settings(max_examples=250, deadline=2000, suppress_health_check=[HealthCheck.too_slow,
+FUZZ = settings(max_examples=800, deadline=2000, suppress_health_check=[HealthCheck.too_slow,
                                                                          HealthCheck.function_scoped_fixture])
 
 
+# ENGINE BUG (reported): these fuzz tests and test_arbitrary_bytes_fail_cleanly currently fail on the
+# two-line "unacceptable character" message (see test_control_character_gives_one_line); they are left
+# as they are so that, once it is fixed, they go on looking for other faults.
 @pytest.mark.parametrize("base", sorted(BASES))
 @FUZZ
 @given(mutations=st.lists(MUTATION, min_size=1, max_size=4))
@@ -162,7 +165,7 @@ def test_mutated_netlists_fail_cleanly(workdir, base, mutations):
     check_mutant(workdir, mutate(TEXTS[base], mutations))
 
 
-@FUZZ
+@settings(FUZZ, max_examples=300)
 @given(cut=st.integers(0, 1 << 20), base=st.sampled_from(sorted(BASES)))
 def test_truncated_netlists_fail_cleanly(workdir, base, cut):
     text = TEXTS[base]
