@@ -155,7 +155,8 @@ def _solve_scipy(circuit, vec, settings, t_out, atol) -> Outcome:
     if status != 0:
         x_end = np.asarray(last_good[1], dtype=float)
         if bad < 0 and n:  # name the state that has grown most, relative to its tolerance
-            bad = int(np.argmax(np.abs(np.nan_to_num(x_end, nan=np.inf)) / (atol + 1e-300)))
+            with np.errstate(all="ignore"):
+                bad = int(np.argmax(np.abs(np.nan_to_num(x_end, nan=np.inf)) / (atol + 1e-300)))
     stats = {"rhs_calls": calls[0]}
     if sol is not None:
         stats.update(jacobians=int(sol.njev), lu=int(sol.nlu))
