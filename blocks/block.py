@@ -171,6 +171,9 @@ class Block:
     states: ClassVar[tuple[State, ...]] = ()
     prescribes: ClassVar[tuple[str, ...]] = ()
     """Physical ports whose across value this block sets (ideal pressure or speed sources)."""
+    presets: ClassVar[dict[str, dict[str, float | str]]] = {}
+    """Named parameter sets from data sheets or the thesis's tables (``preset:`` in a netlist); values are
+    SI numbers or '<number> <unit>' strings; the component's own ``params`` override them."""
     rigid_link: ClassVar[tuple[str, str] | None] = None
     """(a, b): the two ports are joined rigidly, w_b = ratio(params) * w_a (gears, rack and pinion)."""
     outputs: ClassVar[Callable | None] = None
@@ -299,6 +302,11 @@ def check_declarations(cls: type[Block]) -> None:
             raise TypeError(f"{owner}: a rigid link needs a ratio(...) function of parameters")
         if any(arg not in {p.name for p in cls.params} for arg in argument_names(cls.ratio)):
             raise TypeError(f"{owner}.ratio may take parameters only")
+    names = {p.name for p in cls.params}
+    for preset, values in cls.presets.items():
+        unknown = set(values) - names
+        if unknown:
+            raise TypeError(f"{owner}: preset '{preset}' sets unknown parameters {sorted(unknown)}")
     for p in cls.params:
         if p.default is not None and p.fluid is None:
             problem = p.check(p.default)

@@ -54,6 +54,8 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Defaults", "volume"): "Volume [m^3] of every hydraulic net that neither sets `volume:` nor has a block "
                             "storing oil on it (without it such a net is an error).",
     ("Component", "type"): "The block type: one of the names in [Blocks](#blocks).",
+    ("Component", "preset"): "A named parameter set of the block type (data-sheet or thesis values, listed "
+                             "under each block); `params` given beside it override the preset's values.",
     ("Component", "params"): "Parameter values by name; a parameter left out takes its default (or the "
                              "netlist's fluid property); a parameter without default must be given. Array "
                              "parameters take a list or `{csv: <file>, column: <name>}`.",
@@ -138,6 +140,11 @@ def block_reference(cls: type[Block], level: int = 2) -> str:
         lines.append(f"Prescribes the across variable of: {', '.join(f'`{p}`' for p in cls.prescribes)}.")
     if cls.rigid_link:
         lines.append(f"Rigid link: `{cls.rigid_link[1]}` moves at ratio(params) times `{cls.rigid_link[0]}`.")
+    if cls.presets:
+        lines += ["", "| preset | values |", "|---|---|"]
+        for name, values in cls.presets.items():
+            shown = ", ".join(f"{k} = {v}" for k, v in values.items())
+            lines.append(f"| `{name}` | {_cell(shown)} |")
     return "\n".join(lines) + "\n"
 
 

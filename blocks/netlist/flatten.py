@@ -214,11 +214,18 @@ class _Builder:
                 raise located.error(path + ("params", key), f"{name}: '{key}' is not a parameter of {comp.type}"
                                     + (f" (did you mean {', '.join(hint)}?)" if hint else
                                        f" (its parameters: {', '.join(declared) or 'none'})"))
+        given = {key: (raw, path + ("params", key)) for key, raw in comp.params.items()}
+        if comp.preset is not None:
+            if comp.preset not in cls.presets:
+                choices = ", ".join(cls.presets) or "none"
+                raise located.error(path + ("preset",), f"{name}: {comp.type} has no preset '{comp.preset}' "
+                                    f"(its presets: {choices})")
+            for key, raw in cls.presets[comp.preset].items():
+                given.setdefault(key, (raw, path + ("preset",)))
         for param in cls.params:
             entry_name = f"{qualified}.{param.name}"
-            ppath = path + ("params", param.name)
-            if param.name in comp.params:
-                raw = comp.params[param.name]
+            if param.name in given:
+                raw, ppath = given[param.name]
                 if param.array:
                     entry = self._array_entry(entry_name, raw, param, located, ppath, name, scope)
                     flat.array_lengths[param.name] = len(entry.elements or entry.constant)
