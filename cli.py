@@ -4,6 +4,7 @@
     vphs run NETLIST [-o results.csv] [--set name=value ...] [--plot out.png] [--solver S]
     vphs blocks [TYPE]
     vphs graph NETLIST [-o circuit.png]
+    vphs diff SIMULATED REFERENCE.csv [--x COL] [--y COL|SIM=REF ...] [-o table.csv] [--plot overlay.png]
     vphs docs [-o docs/netlist-reference.md]
 
 Exit codes: 0 success, 1 the simulation failed (the solver's message says when and where), 2 bad input
@@ -53,6 +54,19 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("netlist")
     p.add_argument("-o", "--output", help="PNG file (default: NETLIST with .png)")
 
+    p = sub.add_parser("diff", help="compare simulated curves with data-sheet or measured points")
+    p.add_argument("simulated", help="results CSV (as written by 'vphs run -o') or a netlist (.yaml) to run first")
+    p.add_argument("reference", help="CSV of reference points, header 'name [unit]', '#' comment lines allowed")
+    p.add_argument("--x", default="t", metavar="COL", help="the abscissa (default t); SIM=REF if the names differ")
+    p.add_argument("--y", action="append", default=[], metavar="COL",
+                   help="a curve to compare, SIM=REF if the names differ (repeatable; default: every reference "
+                        "column the simulation also has)")
+    p.add_argument("-o", "--output", help="CSV file for the table of errors")
+    p.add_argument("--plot", help="PNG file: simulated lines, reference points and the error beneath")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter when SIMULATED is a netlist (repeatable)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress or notes on stderr")
+
     p = sub.add_parser("docs", help="write the netlist reference generated from the block registry")
     p.add_argument("-o", "--output", default="docs/netlist-reference.md")
     return parser
@@ -85,23 +99,13 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def cmd_validate(args) -> int:
-    from blocks.compiler.structure import analyse
-    from blocks.netlist.flatten import flatten
+    """Everything `vphs run` checks before simulating: structure, outputs, settings, every value."""
+    from blocks.circuit import Circuit
 
-    flat = flatten(args.netlist)
-    st = analyse(flat)
-    from blocks.circuit import Circuit  # noqa: F401  (outputs and settings are checked by building)
-    from blocks.compiler.codegen import Generator
-    from blocks.solve.settings import read_settings
-
-    generator = Generator(st)
-    for out in flat.outputs:
-        try:
-            generator.resolve_output(out.of)
-        except KeyError as exc:
-            raise out.source.error(out.path, f"output '{out.name}': {exc.args[0]}") from None
-    read_settings(flat)
-    print(f"{args.netlist}: ok: {len(flat.components)} components, {len(flat.nets)} nets, "
+    circuit = Circuit.from_file(args.netlist, compile=False)
+    circuit.vectors()
+    st = circuit.structure
+    print(f"{args.netlist}: ok: {len(circuit.flat.components)} components, {len(circuit.flat.nets)} nets, "
           f"{st.n_states} states, {st.theta_size} parameters")
     return 0
 
@@ -123,7 +127,8 @@ def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
             hint = nearest(name, entries)
             raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
                                 + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
-        unit = entries[name].unit
+        entry = entries[name]
+        unit = entry.unit
         try:
             if unit is None:
                 number, unit_text = split_quantity(raw)
@@ -132,6 +137,10 @@ def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
                 overrides[name] = quantity(raw if not _is_number(raw) else float(raw), unit)
         except UnitError as exc:
             raise ArgumentError(f"vphs: --set '{pair}': {exc}") from None
+        if entry.bounds is not None and not getattr(entry.bounds, "array", False):
+            problem = entry.bounds.check(overrides[name])
+            if problem:
+                raise ArgumentError(f"vphs: --set '{pair}': {problem}")
     return overrides
 
 
@@ -150,8 +159,10 @@ def cmd_run(args) -> int:
     for target in (args.output, args.plot):
         if target and Path(target).is_dir():
             raise ArgumentError(f"vphs: output '{target}' is a folder; give a file name")
-    circuit = Circuit.from_file(args.netlist, quiet=args.quiet)
-    overrides = parse_overrides(args.set, circuit)
+    circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
+    overrides = parse_overrides(args.set, circuit)  # checked before the (possibly slow) compilation
+    circuit.vectors(overrides)
+    circuit.compile(quiet=args.quiet)
     settings = circuit.settings
     if args.solver:
         if args.solver == "fixed" and not settings.fixed_step:
@@ -228,6 +239,47 @@ def cmd_graph(args) -> int:
     return 0
 
 
+def cmd_diff(args) -> int:
+    from blocks.compare import check_reference_columns, compare, is_netlist, planned_table, resolve, table_from_result
+    from blocks.datafile import read_table
+
+    for target in (args.output, args.plot):
+        if target and Path(target).is_dir():
+            raise ArgumentError(f"vphs: output '{target}' is a folder; give a file name")
+    netlist = is_netlist(args.simulated)
+    if args.set and not netlist:
+        raise ArgumentError("vphs: --set applies only when SIMULATED is a netlist")
+    reference = read_table(args.reference)  # a bad reference fails before a long run
+    check_reference_columns(reference, args.x, args.y)
+    if netlist:
+        from blocks.circuit import Circuit
+
+        circuit = Circuit.from_file(args.simulated, quiet=args.quiet, compile=False)
+        resolve(planned_table(circuit), reference, args.x, args.y)  # names and units, before the run
+        overrides = parse_overrides(args.set, circuit)  # checked before the (possibly slow) compilation
+        circuit.vectors(overrides)
+        circuit.compile(quiet=args.quiet)
+        result = circuit.simulate(overrides, progress=_progress_printer(silent=args.quiet))
+        for warning in result.warnings:
+            print(f"vphs: warning: {warning}", file=sys.stderr)
+        simulated = table_from_result(result)
+    else:
+        simulated = read_table(args.simulated)
+    comparison = compare(simulated, reference, x=args.x, ys=args.y)
+    if comparison.skipped and not args.quiet:
+        print(f"vphs: not compared (not simulated): {', '.join(comparison.skipped)}", file=sys.stderr)
+    sys.stdout.write(comparison.format())
+    if args.output:
+        from blocks.result import atomic_write_text
+
+        atomic_write_text(Path(args.output), comparison.to_csv_text())
+    if args.plot:
+        comparison.plot(args.plot)
+    if not args.quiet and (args.output or args.plot):
+        print("vphs: wrote " + ", ".join(f for f in (args.output, args.plot) if f), file=sys.stderr)
+    return 0
+
+
 def cmd_docs(args) -> int:
     from blocks.docs import write_reference
 
@@ -236,7 +288,8 @@ def cmd_docs(args) -> int:
     return 0
 
 
-COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "docs": cmd_docs}
+COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "diff": cmd_diff,
+            "docs": cmd_docs}
 
 
 if __name__ == "__main__":

@@ -126,17 +126,21 @@ class Param:
     fluid: str | None = None
     array: bool = False
     integer: bool = False
+    positive: bool = False  # the lower bound (0) itself is excluded
 
     def check(self, value) -> str | None:
         """None if ``value`` is inside the bounds, else what is wrong."""
         values = value if self.array else (value,)
+        unit = f" {self.unit}" if self.unit not in ("1", "") else ""
         for v in values:
             if not math.isfinite(v):
                 return f"{self.name} = {v} is not finite"
+            if self.lower is not None and self.positive and v <= self.lower:
+                return f"{self.name} = {v:g}{unit} must be positive"
             if self.lower is not None and v < self.lower:
-                return f"{self.name} = {v:g} {self.unit} is below its lower bound {self.lower:g}"
+                return f"{self.name} = {v:g}{unit} is below its lower bound {self.lower:g}{unit}"
             if self.upper is not None and v > self.upper:
-                return f"{self.name} = {v:g} {self.unit} is above its upper bound {self.upper:g}"
+                return f"{self.name} = {v:g}{unit} is above its upper bound {self.upper:g}{unit}"
         return None
 
 

@@ -48,7 +48,8 @@ class Vectors:
 class Circuit:
     """A netlist compiled to a right-hand side over flat state and parameter vectors."""
 
-    def __init__(self, flat: FlatCircuit, quiet: bool = True):
+    def __init__(self, flat: FlatCircuit, quiet: bool = True, compile: bool = True):
+        """Analyse, order and generate the circuit; ``compile=False`` stops before numba (``vphs validate``)."""
         self.flat = flat
         self.structure: Structure = analyse(flat)
         self.generator = Generator(self.structure)
@@ -56,16 +57,22 @@ class Circuit:
         self.settings: SolverSettings = read_settings(flat)
         self.pattern = jacobian_pattern(self.structure)
         self.groups, self.n_groups = _colour_columns(self.pattern)
-        source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs])
+        self.source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs])
+        self.module = None
+        if compile:
+            self.compile(quiet)
+
+    def compile(self, quiet: bool = True) -> None:
+        """Compile (or load from the disk cache) the generated right-hand side."""
         from blocks.solve.generated import build_module
 
         announce = None if quiet else lambda: print(
             "vphs: compiling the circuit (once per structure; cached afterwards)...", file=sys.stderr, flush=True)
-        self.module = build_module(source, cache_dir(), Path(flat.file).stem, on_compile=announce)
+        self.module = build_module(self.source, cache_dir(), Path(self.flat.file).stem, on_compile=announce)
 
     @classmethod
-    def from_file(cls, file: str | Path, quiet: bool = True) -> "Circuit":
-        return cls(flatten(file), quiet=quiet)
+    def from_file(cls, file: str | Path, quiet: bool = True, compile: bool = True) -> "Circuit":
+        return cls(flatten(file), quiet=quiet, compile=compile)
 
     # ---- parameters -----------------------------------------------------------------------------------
     @property
@@ -129,6 +136,8 @@ class Circuit:
         ``progress(fraction, seconds)`` is called as the run advances, if given."""
         settings = settings or self.settings
         vec = self.vectors(overrides)
+        if self.module is None:
+            self.compile()
         from blocks.solve.run import solve
 
         started = time.perf_counter()

@@ -45,13 +45,17 @@ class Expression:
     def evaluate(self, values: dict[str, float]) -> float:
         try:
             result = _walk(self.tree, values)
-        except ExpressionError:
-            raise
+            if isinstance(result, complex):
+                raise ExpressionError(f"'{self.text}' has no real value")
+            if not math.isfinite(result):
+                raise ExpressionError(f"'{self.text}' evaluates to {result}")
+            return float(result)
+        except ExpressionError as exc:
+            if self.text in str(exc):
+                raise
+            raise ExpressionError(f"'{self.text}': {exc}") from None
         except (ZeroDivisionError, OverflowError, ValueError, TypeError) as exc:
             raise ExpressionError(f"cannot evaluate '{self.text}': {exc}") from None
-        if not math.isfinite(result):
-            raise ExpressionError(f"'{self.text}' evaluates to {result}")
-        return float(result)
 
 
 def parse_expression(text: str) -> Expression:
@@ -107,8 +111,11 @@ def _walk(node: ast.AST, values: dict[str, float]) -> float:
             raise ExpressionError(f"unknown parameter '{node.id}'") from None
     if isinstance(node, ast.BinOp):
         left, right = _walk(node.left, values), _walk(node.right, values)
-        if isinstance(node.op, ast.Pow) and abs(right) > 1e4:
-            raise ExpressionError(f"exponent {right:g} is too large")
+        if isinstance(node.op, ast.Pow):
+            if abs(right) > 1e4:
+                raise ExpressionError(f"exponent {right:g} is too large")
+            if left < 0 and not float(right).is_integer():
+                raise ExpressionError(f"a negative number ({left:g}) to a fractional power has no real value")
         return _BINARY[type(node.op)](left, right)
     if isinstance(node, ast.UnaryOp):
         return _UNARY[type(node.op)](_walk(node.operand, values))

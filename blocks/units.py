@@ -65,6 +65,7 @@ _REV = Unit(2 * math.pi, _RAD.dims)
 
 UNITS: dict[str, Unit] = {
     "1": _ONE, "unit": _ONE, "%": Unit(0.01, _ONE.dims),
+    "SI": _ONE,  # declared by generic signal parameters: a value in SI of any dimension (not checked)
     # length, area, volume
     "m": _M, "mm": Unit(1e-3, _M.dims), "cm": Unit(1e-2, _M.dims), "um": Unit(1e-6, _M.dims),
     "km": Unit(1e3, _M.dims), "in": Unit(0.0254, _M.dims),
@@ -88,9 +89,13 @@ UNITS: dict[str, Unit] = {
     "K": _K, "A": _A, "mA": Unit(1e-3, _A.dims),
 }
 
-_TOKEN = re.compile(r"\s*(?:(?P<num>\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)|(?P<name>[A-Za-z%]+)|(?P<op>\*\*|[*·/^()]))")
+_TOKEN = re.compile(r"\s*(?:(?P<num>\d+(?:\.\d*)?(?:[eE][-+]?\d+)?)|(?P<name>[A-Za-z%]+)|(?P<op>\*\*|[*·/^()-]))")
 _NUMBER = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
 _QUANTITY = re.compile(rf"^\s*(?P<value>{_NUMBER})\s*(?P<unit>.*?)\s*$")
+
+
+GENERIC = "SI"
+"""The declared unit of a generic signal parameter (a gain, a limit, a table): any dimension, in SI."""
 
 
 class UnitError(ValueError):
@@ -104,7 +109,10 @@ def parse_unit(text: str) -> Unit:
     if not text:
         return _ONE
     tokens = _tokenize(text)
-    unit, pos = _parse_product(tokens, 0, text)
+    try:
+        unit, pos = _parse_product(tokens, 0, text)
+    except OverflowError:
+        raise UnitError(f"unit '{text}' is too large") from None
     if pos != len(tokens):
         raise UnitError(f"unexpected '{tokens[pos][1]}' in unit '{text}'")
     return unit
@@ -149,9 +157,14 @@ def _parse_power(tokens, pos, text):
         if pos < len(tokens) and tokens[pos][1] == "(":
             # exponent in parentheses, e.g. m^(1/2) is not supported beyond a plain number
             raise UnitError(f"write exponents as plain numbers in unit '{text}'")
+        if pos < len(tokens) and tokens[pos][1] == "-":
+            sign, pos = -1.0, pos + 1
         if pos >= len(tokens) or tokens[pos][0] != "num":
             raise UnitError(f"missing exponent in unit '{text}'")
-        unit = unit ** (sign * float(tokens[pos][1]))
+        exponent = sign * float(tokens[pos][1])
+        if abs(exponent) > 12:
+            raise UnitError(f"exponent {exponent:g} in unit '{text}' is implausible")
+        unit = unit ** exponent
         pos += 1
     return unit, pos
 
@@ -179,10 +192,14 @@ def _parse_atom(tokens, pos, text):
 
 
 def nearest(name: str, choices, n: int = 3) -> list[str]:
-    """The closest names to ``name`` among ``choices`` (for 'did you mean' hints)."""
+    """The closest names to ``name`` among ``choices`` (for 'did you mean' hints), ignoring case first."""
     import difflib
 
-    return difflib.get_close_matches(name, list(choices), n=n, cutoff=0.6)
+    choices = list(choices)
+    same = [c for c in choices if c.lower() == name.lower()]
+    lowered = {c.lower(): c for c in choices}
+    close = [lowered[m] for m in difflib.get_close_matches(name.lower(), list(lowered), n=n, cutoff=0.6)]
+    return list(dict.fromkeys(same + close))[:n]
 
 
 def to_si(value: float, unit: str) -> float:
@@ -225,6 +242,8 @@ def convert(number: float, unit_text: str, declared_unit: str) -> float:
     """
     given = parse_unit(unit_text)
     declared = parse_unit(declared_unit)
+    if declared_unit == GENERIC:
+        return number * given.factor
     if not given.same_dimension(declared):
         raise UnitError(
             f"wrong unit '{unit_text}' ({given.describe_dims()}): expected a quantity in {declared_unit} "
@@ -246,24 +265,29 @@ _INLINE_QUANTITY = re.compile(
 )
 
 
-def substitute_quantities(text: str) -> str:
-    """Replace each "<number> <unit>" inside an expression by its SI value in parentheses.
+_LITERAL_NAMES = __import__("itertools").count()
 
-    ``"23000 kg + m_payload"`` -> ``"(23000.0) + m_payload"``; ``"2*30 cm^3/rev"`` -> ``"2*(4.77e-06)"``.
-    A unit must follow its number after a space; text that is not a known unit is left alone.
+
+def substitute_quantities(text: str) -> tuple[str, dict[str, tuple[float, Unit]]]:
+    """Replace each "<number> <unit>" inside an expression by a placeholder name; return the new text and
+    the placeholders' SI values and units (so the dimension of the expression can be checked).
+
+    ``"23000 kg + m_payload"`` -> ``("_q7 + m_payload", {"_q7": (23000.0, kg)})``. A unit must follow its
+    number after a space; text that is not a known unit is left alone ("3 bar * k": the unit is "bar").
     """
+    literals: dict[str, tuple[float, Unit]] = {}
 
     def replace(match: re.Match) -> str:
         unit_text = match.group("unit")
-        # the longest prefix that parses as a unit: in "3 bar * k" the unit is "bar", "* k" stays
         cuts = [m.start() for m in re.finditer(r"\s*[*/·]", unit_text)] + [len(unit_text)]
         for cut in reversed(cuts):
             try:
-                factor = parse_unit(unit_text[:cut]).factor
+                unit = parse_unit(unit_text[:cut])
             except UnitError:
                 continue
-            rest = unit_text[cut:]
-            return f"({float(match.group('value')) * factor!r}){rest}"
+            name = f"_q{next(_LITERAL_NAMES)}"
+            literals[name] = (float(match.group("value")) * unit.factor, unit)
+            return f"{name}{unit_text[cut:]}"
         return match.group(0)
 
-    return _INLINE_QUANTITY.sub(replace, text)
+    return _INLINE_QUANTITY.sub(replace, text), literals

@@ -1,1 +1,10 @@
 """The vertical pipe handler's own components. Importing this package registers them (explicit imports)."""
+from vphs_blocks import servo_valve_4wrle  # noqa: F401  (servo_4wrle)
+from vphs_blocks import pvg32  # noqa: F401  (pvg32)
+from vphs_blocks import motor_f12  # noqa: F401  (parker_motor)
+from vphs_blocks import mcv_vaa  # noqa: F401  (VAA-B-SICN-ST motion-control valve)
+from vphs_blocks import mcv_vbso  # noqa: F401  (VBSO-DE-CC over-centre valve)
+from vphs_blocks import bc_axis_inertia  # noqa: F401  (bc_axis_inertia)
+from vphs_blocks import tool_point  # noqa: F401  (tool_point)
+from vphs_blocks import lga_jib_load  # noqa: F401  (lga_jib_load)
+from vphs_blocks import lga_telescope_load  # noqa: F401  (lga_telescope_load)

@@ -16,14 +16,19 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from blocks import registry
-from blocks.block import Block, PortKind
+from blocks.block import ACROSS, Block, Param, PortKind
 from blocks.errors import NetlistError
 from blocks.netlist import spec
 from blocks.netlist.parameters import Entry, ParameterTable, make_array_entry, make_entry
-from blocks.netlist.yaml_source import Located, read_yaml
+from blocks.netlist.yaml_source import Located, read_bounded, read_yaml
 from blocks.units import UnitError, nearest, parse_unit, quantity
 
 MAX_SUBSYSTEM_DEPTH = 8
+MAX_CSV_BYTES = 50_000_000
+NET_BOUNDS = {
+    "volume": Param("volume", "m^3", None, 0.0, 1e3, "volume of a hydraulic net", positive=True),
+    "bulk_modulus": Param("bulk_modulus", "Pa", None, 0.0, 1e12, "bulk modulus of a hydraulic net", positive=True),
+}
 
 
 @dataclass
@@ -189,7 +194,8 @@ class _Builder:
             for key, unit in (("volume", "m^3"), ("bulk_modulus", "Pa"), ("initial", None)):
                 raw = getattr(net_spec, key)
                 if raw is not None:
-                    self.table.add(make_entry(f"{qualified}.{key}", raw, unit, scope, located, ("nets", name, key)))
+                    self.table.add(make_entry(f"{qualified}.{key}", raw, unit, scope, located, ("nets", name, key),
+                                              NET_BOUNDS.get(key)))
         for exposed, ref in netlist.ports.items():
             self.aliases[prefix + exposed] = prefix + ref
             if prefix == "":
@@ -279,8 +285,8 @@ class _Builder:
         try:
             inner_located = read_yaml(file)
         except NetlistError as exc:
-            if exc.message == "file not found":
-                raise located.error(path + ("netlist",), f"subsystem '{name}': file {sub.netlist} not found") from None
+            if exc.line is None:  # the file itself is unreadable: say where it is named
+                raise located.error(path + ("netlist",), f"subsystem '{name}': {sub.netlist}: {exc.message}") from None
             raise
         inner = _load_spec(inner_located)
         overrides = {k: (v, located, path + ("parameters", k)) for k, v in sub.parameters.items()}
@@ -344,6 +350,7 @@ class _Builder:
                                     f"{first[0]}.{first[1]} is {flat.kind.value}, {comp}.{port} is {kind.value}")
                 flat.ports.append((comp, port))
         self._merge_net_entries(merged, find)
+        self._check_net_entries(merged)
         for comp_name, comp in self.components.items():
             for port in comp.cls.ports:
                 if (comp_name, port.name) not in owner and not port.optional:
@@ -379,6 +386,25 @@ class _Builder:
             flat.has_volume = f"{flat.name}.volume" in self.table.entries
         self.table._order = None
 
+    def _check_net_entries(self, merged: dict[str, FlatNet]) -> None:
+        """Volumes and bulk moduli belong to hydraulic nets; an initial value is in the net's across unit."""
+        for net in merged.values():
+            for key in ("volume", "bulk_modulus"):
+                entry = self.table.entries.get(f"{net.name}.{key}")
+                if entry is not None and net.kind is not PortKind.HYDRAULIC:
+                    raise entry.error(f"net '{net.name}' is {net.kind.value if net.kind else 'empty'}: "
+                                      f"only a hydraulic net has a {key.replace('_', ' ')}")
+            entry = self.table.entries.get(f"{net.name}.initial")
+            if entry is None:
+                continue
+            if net.kind not in ACROSS:
+                raise entry.error(f"net '{net.name}' is a signal net: it has no initial value "
+                                  f"(set the initial state of the block that drives it)")
+            unit = ACROSS[net.kind][1]
+            fixed = make_entry(entry.name, entry.raw, unit, entry.scope, entry.source, entry.path)
+            self.table.entries[entry.name] = fixed
+        self.table._order = None
+
     def _resolve_ref(self, qualified: str, ref: str, located: Located, path: tuple):
         """'valve.A' -> (component, port); an exposed subsystem port -> its inner net or port."""
         seen = 0
@@ -407,16 +433,18 @@ class _Builder:
 
 
 def _entry_text(entry: Entry) -> str:
-    return entry.expression.text if entry.expression is not None else repr(entry.constant)
+    return entry.written if entry.raw is not None else repr(entry.constant)
 
 
 def read_csv_column(file: Path, column: str, unit: str, located: Located, path: tuple) -> tuple:
     """One column of a CSV data file (header names carry units in brackets: ``p1 [bar]``), in SI."""
     try:
-        with open(file, newline="") as handle:
-            rows = [row for row in csv.reader(line for line in handle if not line.lstrip().startswith("#"))]
-    except OSError:
-        raise located.error(path, f"cannot read CSV file {file}") from None
+        text = read_bounded(file, MAX_CSV_BYTES).decode("utf-8")
+    except NetlistError as exc:
+        raise located.error(path, f"CSV file {file}: {exc.message}") from None
+    except UnicodeDecodeError:
+        raise located.error(path, f"CSV file {file}: not UTF-8 text") from None
+    rows = [row for row in csv.reader(line for line in text.splitlines() if not line.lstrip().startswith("#"))]
     if not rows:
         raise located.error(path, f"{file}: empty CSV file")
     header = [h.strip() for h in rows[0]]

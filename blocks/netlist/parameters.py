@@ -5,23 +5,37 @@ Names are qualified: ``m_load`` (a netlist parameter), ``valve.A_max`` (a compon
 ``fluid.rho``. Each entry is a constant or an expression over other names of its scope. Evaluation walks
 them in dependency order (networkx), so that an optimiser can override any name, ``m_load`` included, and
 every value that depends on it follows, without rebuilding the circuit.
+
+Dimensions: a value written with a unit ("7500 kg") carries its dimension; a bare number is free (it is
+the SI value of whatever the place needs). Expressions propagate dimensions (products multiply them, sums
+must agree, a free number adapts), so ``A_max: m_load`` or ``p: "100 bar + 5 m"`` is a wrong-unit error,
+while ``J: "0.085 + m_load*r**2/n**2"`` with a free ``n`` and ``0.085`` is accepted.
 """
 
 from __future__ import annotations
 
+import ast
 from dataclasses import dataclass, field
 
 import networkx as nx
 
-from blocks.errors import NetlistError
-from blocks.expressions import ExpressionError, parse_expression, Expression
+from blocks.errors import NetlistError, VphsError
+from blocks.expressions import Expression, ExpressionError, parse_expression
 from blocks.netlist.yaml_source import Located
-from blocks.units import UnitError, parse_unit, quantity, split_quantity, substitute_quantities, _QUANTITY
+from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, nearest, parse_unit, quantity, split_quantity,
+                          substitute_quantities)
+
+FREE = None  # dimension of a bare number: adapts to its place
+
+
+class ParameterError(VphsError):
+    """An override (from an optimiser, a job or --set) that the parameter does not accept."""
 
 
 @dataclass
 class Entry:
-    """One named value. ``expression`` reads names through ``scope`` (local name -> qualified name)."""
+    """One named value. ``expression`` reads names through ``scope`` (local name -> qualified name);
+    ``literals`` are the quantities written inside it ("5 m" -> a placeholder name with SI value and unit)."""
 
     name: str
     unit: str | None  # declared SI unit, None if free (netlist parameters)
@@ -32,16 +46,24 @@ class Entry:
     path: tuple
     bounds: object | None = None  # a blocks.block.Param to check bounds with
     elements: list | None = None  # an array of constants and expressions (array parameters)
+    literals: dict[str, tuple[float, Unit]] = field(default_factory=dict)
+    dims: Unit | None = FREE  # the written unit of a constant, or the declared unit (FREE for a bare number)
+    raw: object = None  # the text as written (re-read when a net's kind fixes the unit of its initial value)
 
     def dependencies(self) -> set[str]:
         found = set(self.expression.names) if self.expression is not None else set()
         for item in self.elements or ():
             if isinstance(item, Expression):
                 found |= item.names
-        return found
+        return found - set(self.literals)
 
     def error(self, message: str) -> NetlistError:
         return self.source.error(self.path, message)
+
+    @property
+    def written(self) -> str:
+        """The value as the user wrote it (not the placeholder text of its unit literals)."""
+        return self.raw if isinstance(self.raw, str) else (self.expression.text if self.expression else str(self.raw))
 
 
 @dataclass
@@ -56,7 +78,7 @@ class ParameterTable:
         self._order = None
 
     def order(self) -> list[str]:
-        """Names in evaluation order; an error naming the names in a dependency cycle."""
+        """Names in evaluation order; errors for unknown names, dependency cycles and wrong dimensions."""
         if self._order is None:
             graph = nx.DiGraph()
             graph.add_nodes_from(self.entries)
@@ -64,14 +86,10 @@ class ParameterTable:
                 for local in entry.dependencies():
                     target = entry.scope.get(local)
                     if target is None or target not in self.entries:
-                        near = [n for n in entry.scope if n in self.entries or entry.scope[n] in self.entries]
-                        from blocks.units import nearest
-
+                        near = [n for n in entry.scope if entry.scope[n] in self.entries]
                         hint = nearest(local, near)
-                        raise entry.error(
-                            f"unknown parameter '{local}' in {entry.name}"
-                            + (f" (did you mean {', '.join(hint)}?)" if hint else "")
-                        )
+                        raise entry.error(f"unknown parameter '{local}' in {entry.name}"
+                                          + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
                     graph.add_edge(target, entry.name)
             try:
                 cycle = nx.find_cycle(graph)
@@ -79,26 +97,53 @@ class ParameterTable:
                 cycle = None
             if cycle:
                 names = [edge[0] for edge in cycle]
-                raise self.entries[names[0]].error(f"parameters depend on each other in a cycle: {' -> '.join(names + names[:1])}")
-            self._order = list(nx.topological_sort(graph))
+                raise self.entries[names[0]].error(
+                    f"parameters depend on each other in a cycle: {' -> '.join(names + names[:1])}")
+            order = list(nx.topological_sort(graph))
+            self._check_dimensions(order)
+            self._order = order
         return self._order
+
+    def _check_dimensions(self, order: list[str]) -> None:
+        inferred: dict[str, Unit | None] = {}
+        for name in order:
+            entry = self.entries[name]
+            dims = entry.dims
+            if entry.expression is not None:
+                try:
+                    dims = _infer(entry.expression.tree, entry, inferred)
+                except UnitError as exc:
+                    raise entry.error(f"{entry.name}: wrong unit: '{entry.written}' {exc}") from None
+                if entry.unit is not None and entry.unit != GENERIC and dims is not FREE:
+                    declared = parse_unit(entry.unit)
+                    if not dims.same_dimension(declared):
+                        raise entry.error(f"{entry.name}: wrong unit: '{entry.written}' is in "
+                                          f"{dims.describe_dims()}, expected {entry.unit}")
+                    dims = declared
+            generic = entry.unit is None or entry.unit == GENERIC
+            inferred[name] = dims if generic else (parse_unit(entry.unit) if dims is not FREE else FREE)
 
     def evaluate(self, overrides: dict[str, float] | None = None) -> dict[str, float | tuple]:
         """All values in SI; ``overrides`` replace named values (and so everything that depends on them)."""
         overrides = overrides or {}
         for name in overrides:
             if name not in self.entries:
-                from blocks.units import nearest
-
                 hint = nearest(name, self.entries)
-                raise KeyError(f"unknown parameter '{name}'" + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+                raise ParameterError(f"unknown parameter '{name}'" + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
         values: dict[str, float | tuple] = {}
         for name in self.order():
             entry = self.entries[name]
             if name in overrides:
                 value = overrides[name]
-            elif entry.expression is not None or entry.elements is not None:
+                if entry.bounds is not None:
+                    problem = entry.bounds.check(value)
+                    if problem:
+                        raise ParameterError(f"override {name}: {problem}")
+                values[name] = value
+                continue
+            if entry.expression is not None or entry.elements is not None:
                 local = {n: values[q] for n, q in entry.scope.items() if n in entry.dependencies()}
+                local.update({k: v for k, (v, _) in entry.literals.items()})
                 try:
                     if entry.elements is not None:
                         value = tuple(item.evaluate(local) if isinstance(item, Expression) else item
@@ -106,7 +151,7 @@ class ParameterTable:
                     else:
                         value = entry.expression.evaluate(local)
                 except ExpressionError as exc:
-                    raise entry.error(str(exc)) from None
+                    raise entry.error(f"{entry.name}: {exc}") from None
             else:
                 value = entry.constant
             if entry.bounds is not None:
@@ -117,42 +162,99 @@ class ParameterTable:
         return values
 
 
+def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
+    """The dimension of an expression: a Unit, or FREE for a pure number."""
+    if isinstance(node, ast.Constant):
+        return FREE
+    if isinstance(node, ast.Name):
+        if node.id in entry.literals:
+            return entry.literals[node.id][1]
+        target = entry.scope.get(node.id)
+        return known.get(target, FREE) if target is not None else FREE
+    if isinstance(node, ast.UnaryOp):
+        return _infer(node.operand, entry, known)
+    if isinstance(node, ast.BinOp):
+        left, right = _infer(node.left, entry, known), _infer(node.right, entry, known)
+        if isinstance(node.op, (ast.Add, ast.Sub, ast.Mod)):
+            if left is not FREE and right is not FREE and not left.same_dimension(right):
+                raise UnitError(f"adds {left.describe_dims()} to {right.describe_dims()}")
+            return left if left is not FREE else right
+        if isinstance(node.op, ast.Mult):
+            return left if right is FREE else right if left is FREE else left * right
+        if isinstance(node.op, ast.Div):
+            if right is FREE:
+                return left
+            inverse = right ** -1
+            return inverse if left is FREE else left * right ** -1
+        if isinstance(node.op, ast.Pow):
+            if right is not FREE and any(right.dims):
+                raise UnitError(f"an exponent in {right.describe_dims()}")
+            if left is FREE:
+                return FREE
+            if isinstance(node.right, ast.Constant):
+                return left ** float(node.right.value)
+            if isinstance(node.right, ast.UnaryOp) and isinstance(node.right.operand, ast.Constant):
+                sign = -1.0 if isinstance(node.right.op, ast.USub) else 1.0
+                return left ** (sign * float(node.right.operand.value))
+            return FREE  # a computed exponent: give up on the check rather than guess
+    if isinstance(node, ast.Call):
+        args = [_infer(a, entry, known) for a in node.args]
+        name = node.func.id
+        if name == "sqrt":
+            return args[0] ** 0.5 if args and args[0] is not FREE else FREE
+        if name in ("abs", "min", "max", "floor", "ceil", "hypot"):
+            dims = [a for a in args if a is not FREE]
+            for a in dims[1:]:
+                if not a.same_dimension(dims[0]):
+                    raise UnitError(f"{name}() of {dims[0].describe_dims()} and {a.describe_dims()}")
+            return dims[0] if dims else FREE
+        return FREE  # transcendental functions: a pure number (or an angle) out
+    return FREE
+
+
 def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: Located, path: tuple,
                bounds=None) -> Entry:
     """Read a raw netlist value: a number (SI), '<number> <unit>' (checked against ``unit``) or an expression."""
     if isinstance(raw, bool) or raw is None:
         raise source.error(path, f"{name}: expected a number, a '<number> <unit>' string or an expression, got {raw!r}")
     if isinstance(raw, (int, float)):
-        return Entry(name, unit, float(raw), None, scope, source, path, bounds)
-    if isinstance(raw, str):
-        unit_problem = None
-        if _QUANTITY.match(raw):
-            try:
-                if unit is None:
-                    number, unit_text = split_quantity(raw)
-                    value = number * parse_unit(unit_text).factor
-                else:
-                    value = quantity(raw, unit)
-                return Entry(name, unit, value, None, scope, source, path, bounds)
-            except UnitError as exc:
-                unit_problem = exc  # may still be an expression such as "0.085 + m_load*r**2"
+        dims = parse_unit(unit) if unit and unit != GENERIC else FREE
+        return Entry(name, unit, float(raw), None, scope, source, path, bounds, dims=dims, raw=raw)
+    if not isinstance(raw, str):
+        raise source.error(path, f"{name}: expected a single value, got {type(raw).__name__}")
+    unit_problem = None
+    if _QUANTITY.match(raw):
         try:
-            expression = parse_expression(substitute_quantities(raw))
-        except ExpressionError as exc:
-            raise source.error(path, f"{name}: {unit_problem or exc}") from None
-        if unit_problem is not None and "wrong unit" in str(unit_problem):
-            raise source.error(path, f"{name}: {unit_problem}")
-        return Entry(name, unit, None, expression, scope, source, path, bounds)
-    raise source.error(path, f"{name}: expected a single value, got {type(raw).__name__}")
+            number, unit_text = split_quantity(raw)
+            if unit is None:
+                written = parse_unit(unit_text)
+                value = number * written.factor
+                dims = written if unit_text else FREE
+            else:
+                value = quantity(raw, unit)
+                dims = parse_unit(unit) if unit != GENERIC else (parse_unit(unit_text) if unit_text else FREE)
+            return Entry(name, unit, value, None, scope, source, path, bounds, dims=dims, raw=raw)
+        except UnitError as exc:
+            unit_problem = exc  # may still be an expression such as "0.085 + m_load*r**2"
+    try:
+        text, literals = substitute_quantities(raw)
+        expression = parse_expression(text)
+    except (ExpressionError, UnitError) as exc:
+        raise source.error(path, f"{name}: {unit_problem or exc}") from None
+    if unit_problem is not None and "wrong unit" in str(unit_problem):
+        raise source.error(path, f"{name}: {unit_problem}")
+    return Entry(name, unit, None, expression, scope, source, path, bounds, literals=literals,
+                 dims=parse_unit(unit) if unit and unit != GENERIC else FREE, raw=raw)
 
 
 def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], source: Located, path: tuple,
                      bounds=None) -> Entry:
     """An array parameter: each element a number, '<number> <unit>' or an expression."""
-    elements = []
+    elements, literals = [], {}
     for i, item in enumerate(raw):
         single = make_entry(f"{name}[{i}]", item, unit, scope, source, path + (i,))
         elements.append(single.expression if single.expression is not None else single.constant)
+        literals.update(single.literals)
     if all(not isinstance(e, Expression) for e in elements):
-        return Entry(name, unit, tuple(elements), None, scope, source, path, bounds)
-    return Entry(name, unit, None, None, scope, source, path, bounds, elements)
+        return Entry(name, unit, tuple(elements), None, scope, source, path, bounds, raw=raw)
+    return Entry(name, unit, None, None, scope, source, path, bounds, elements, literals, raw=raw)

@@ -45,14 +45,7 @@ class Located:
 def read_yaml(file: str | Path) -> Located:
     """Parse ``file``; raise :class:`NetlistError` (with line and column) for anything unreadable."""
     name = str(file)
-    try:
-        raw = Path(file).read_bytes()
-    except FileNotFoundError:
-        raise NetlistError(name, "file not found") from None
-    except OSError as exc:
-        raise NetlistError(name, f"cannot read file: {exc.strerror}") from None
-    if len(raw) > MAX_BYTES:
-        raise NetlistError(name, f"file larger than {MAX_BYTES} bytes")
+    raw = read_bounded(file, MAX_BYTES)
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:
@@ -60,9 +53,31 @@ def read_yaml(file: str | Path) -> Located:
     return parse_yaml_text(text, name)
 
 
+def read_bounded(file: str | Path, limit: int) -> bytes:
+    """The bytes of a regular file of at most ``limit`` bytes (never an unbounded read of a device)."""
+    name = str(file)
+    path = Path(file)
+    try:
+        if not path.exists():
+            raise NetlistError(name, "file not found")
+        if not path.is_file():
+            raise NetlistError(name, "not a regular file" + (" (a folder)" if path.is_dir() else ""))
+        with open(path, "rb") as handle:
+            raw = handle.read(limit + 1)
+    except OSError as exc:
+        raise NetlistError(name, f"cannot read file: {exc.strerror}") from None
+    if len(raw) > limit:
+        raise NetlistError(name, f"file larger than {limit} bytes")
+    return raw
+
+
 def parse_yaml_text(text: str, name: str) -> Located:
     try:
         node = yaml.compose(text, Loader=yaml.SafeLoader)
+    except yaml.reader.ReaderError as exc:
+        line, col = _line_col(text, exc.position)
+        code = exc.character if isinstance(exc.character, int) else ord(exc.character)
+        raise NetlistError(name, f"invalid YAML: control character U+{code:04X} is not allowed", line, col) from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         problem = (exc.problem or exc.context or "invalid YAML").strip()
@@ -81,6 +96,14 @@ def parse_yaml_text(text: str, name: str) -> Located:
     return located
 
 
+def _line_col(text: str, position: int) -> tuple[int, int]:
+    before = text[:position]
+    return before.count("\n") + 1, position - (before.rfind("\n") + 1) + 1
+
+
+_PLAIN_TAGS = {"tag:yaml.org,2002:map", "tag:yaml.org,2002:seq"}
+
+
 def _convert(node, path, located: Located, loader, counter, depth):
     counter[0] += 1
     if counter[0] > MAX_NODES:
@@ -88,6 +111,10 @@ def _convert(node, path, located: Located, loader, counter, depth):
     if depth > MAX_DEPTH:
         raise NetlistError(located.file, "YAML nested too deeply", node.start_mark.line + 1, node.start_mark.column + 1)
     located.positions.setdefault(path, (node.start_mark.line + 1, node.start_mark.column + 1))
+    if isinstance(node, (yaml.MappingNode, yaml.SequenceNode)) and node.tag not in _PLAIN_TAGS:
+        where = ".".join(str(p) for p in path) or "document"
+        raise NetlistError(located.file, f"{where}: YAML tag '{node.tag}' is not allowed (plain data only)",
+                           node.start_mark.line + 1, node.start_mark.column + 1)
     if isinstance(node, yaml.MappingNode):
         out = {}
         for key_node, value_node in node.value:
@@ -116,7 +143,7 @@ def _scalar(node, loader, located):
     try:
         value = loader.construct_object(node, deep=True)
     except yaml.YAMLError as exc:
-        problem = getattr(exc, "problem", None) or "cannot read this value"
+        problem = (getattr(exc, "problem", None) or "cannot read this value").splitlines()[0]
         raise NetlistError(located.file, f"invalid value: {problem}", node.start_mark.line + 1,
                            node.start_mark.column + 1) from None
     if isinstance(value, (bytes, bytearray)) or type(value).__module__ == "datetime":

@@ -1,8 +1,8 @@
 """Shared helpers for the netlist tests: load a netlist as far as a circuit without compiling it, locate a
 needle in a fixture's text, run the CLI in a subprocess.
 
-Loading follows ``Circuit.__init__`` step by step, but the generated module is only checked to be valid
-Python (``compile``), not written, imported or handed to numba: compiling a new structure costs seconds.
+Loading builds the circuit with ``compile=False``: the generated module is only checked to be valid Python,
+not written, imported or handed to numba (compiling a new structure costs seconds).
 """
 
 from __future__ import annotations
@@ -27,39 +27,15 @@ EXAMPLES = ROOT / "netlists" / "examples"
 LOCATED = re.compile(r"^(?P<file>.+?)(?::(?P<line>\d+)(?::(?P<col>\d+))?)?: (?P<message>\S.*)$")
 
 
-class _Stub:
-    """What the patched ``build_module`` returns: a module that was never built."""
-
-
-def _build_module_target() -> str:
-    """Where ``Circuit.__init__`` imports ``build_module`` from (it has moved before), as 'module.name'."""
-    from blocks.circuit import Circuit
-
-    found = re.search(r"from\s+([\w.]+)\s+import\s+build_module", inspect.getsource(Circuit.__init__))
-    assert found, "Circuit.__init__ no longer imports build_module: update tests/netlist/netlist_helpers.py"
-    return f"{found[1]}.build_module"
-
-
-@contextmanager
-def no_compile():
-    """Within this block, ``Circuit(...)`` generates its source and checks it parses, but builds nothing."""
-
-    def fake_build(rhs_src, cache_dir, name_hint, *args, **kwargs):
-        compile(rhs_src, f"<generated for {name_hint}>", "exec")  # the generator wrote valid Python
-        return _Stub()
-
-    with mock.patch(_build_module_target(), fake_build):
-        yield
-
-
 def load(path):
-    """flatten + Circuit + vectors, without compiling; returns the circuit."""
+    """flatten + Circuit (without compiling: ``compile=False``, as ``vphs validate`` does) + vectors; the
+    generated source is checked to be valid Python. Returns the circuit."""
     from blocks.circuit import Circuit
     from blocks.netlist.flatten import flatten
 
-    with no_compile():
-        circuit = Circuit(flatten(str(path)))
-        circuit.vectors()
+    circuit = Circuit(flatten(str(path)), compile=False)
+    compile(circuit.source, f"<generated for {path}>", "exec")  # the generator wrote valid Python
+    circuit.vectors()
     return circuit
 
 

@@ -12,7 +12,7 @@ class Constant(Block):
     """
 
     ports = (signal_out("y", "the constant"),)
-    params = (Param("value", "1", 0.0, None, None, "the output value (SI)"),)
+    params = (Param("value", "SI", 0.0, None, None, "the output value (SI)"),)
 
     @staticmethod
     def outputs(value):

@@ -15,8 +15,8 @@ class DeadBand(Block):
 
     ports = (signal_in("u", "input"), signal_out("y", "input minus the dead band"))
     params = (
-        Param("lower", "1", None, None, None, "lower edge of the band (SI)"),
-        Param("upper", "1", None, None, None, "upper edge of the band (SI)"),
+        Param("lower", "SI", None, None, None, "lower edge of the band (SI)"),
+        Param("upper", "SI", None, None, None, "upper edge of the band (SI)"),
     )
 
     @staticmethod

@@ -12,7 +12,7 @@ class Gain(Block):
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "k times the input"))
-    params = (Param("k", "1", 1.0, None, None, "gain (SI)"),)
+    params = (Param("k", "SI", 1.0, None, None, "gain (SI)"),)
 
     @staticmethod
     def outputs(u, k):

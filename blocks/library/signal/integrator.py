@@ -20,8 +20,8 @@ class Integrator(Block):
     ports = (signal_in("u", "input"), signal_out("y", "integral of k*u, limited"))
     params = (
         Param("k", "1/s", 1.0, None, None, "integration gain"),
-        Param("y_min", "1", -UNLIMITED, None, None, "lower output limit (SI; default unlimited)"),
-        Param("y_max", "1", UNLIMITED, None, None, "upper output limit (SI; default unlimited)"),
+        Param("y_min", "SI", -UNLIMITED, None, None, "lower output limit (SI; default unlimited)"),
+        Param("y_max", "SI", UNLIMITED, None, None, "upper output limit (SI; default unlimited)"),
     )
     states = (State("x", "1", 0.0, 1.0, "integral of k*u (the initial value is its start)"),)
 

@@ -19,9 +19,9 @@ class Lookup1D(Block):
 
     ports = (signal_in("u", "table input (abscissa)"), signal_out("y", "interpolated table value"))
     params = (
-        Param("x_table", "1", None, None, None, "breakpoints, strictly increasing (SI)", array=True),
-        Param("y_table", "1", None, None, None, "table values at the breakpoints (SI)", array=True),
-        Param("extrapolate", "1", 0.0, 0.0, 1.0, "outside the table: 0 hold end value, 1 linear", integer=True),
+        Param("x_table", "SI", None, None, None, "breakpoints, strictly increasing (SI)", array=True),
+        Param("y_table", "SI", None, None, None, "table values at the breakpoints (SI)", array=True),
+        Param("extrapolate", "SI", 0.0, 0.0, 1.0, "outside the table: 0 hold end value, 1 linear", integer=True),
     )
 
     @staticmethod

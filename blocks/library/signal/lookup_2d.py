@@ -24,9 +24,9 @@ class Lookup2D(Block):
         signal_out("y", "interpolated table value"),
     )
     params = (
-        Param("x_table", "1", None, None, None, "breakpoints of u1, strictly increasing (SI)", array=True),
-        Param("y_table", "1", None, None, None, "breakpoints of u2, strictly increasing (SI)", array=True),
-        Param("z_table", "1", None, None, None, "grid values, row-major: z[i*ny + j] at (x[i], y[j]) (SI)", array=True),
+        Param("x_table", "SI", None, None, None, "breakpoints of u1, strictly increasing (SI)", array=True),
+        Param("y_table", "SI", None, None, None, "breakpoints of u2, strictly increasing (SI)", array=True),
+        Param("z_table", "SI", None, None, None, "grid values, row-major: z[i*ny + j] at (x[i], y[j]) (SI)", array=True),
     )
 
     @staticmethod

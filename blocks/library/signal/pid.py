@@ -25,12 +25,12 @@ class PID(Block):
 
     ports = (signal_in("e", "control error (reference - measurement)"), signal_out("y", "controller output"))
     params = (
-        Param("Kp", "1", 1.0, None, None, "proportional gain"),
-        Param("Ki", "1/s", 0.0, None, None, "integral gain"),
-        Param("Kd", "s", 0.0, None, None, "derivative gain"),
+        Param("Kp", "SI", 1.0, None, None, "proportional gain"),
+        Param("Ki", "SI", 0.0, None, None, "integral gain"),
+        Param("Kd", "SI", 0.0, None, None, "derivative gain"),
         Param("Tf", "s", 0.01, 1e-9, None, "time constant of the derivative filter"),
-        Param("u_min", "1", -UNLIMITED, None, None, "lower output limit (SI; default unlimited)"),
-        Param("u_max", "1", UNLIMITED, None, None, "upper output limit (SI; default unlimited)"),
+        Param("u_min", "SI", -UNLIMITED, None, None, "lower output limit (SI; default unlimited)"),
+        Param("u_max", "SI", UNLIMITED, None, None, "upper output limit (SI; default unlimited)"),
         Param("Kaw", "1/s", 1.0, 0.0, None, "back-calculation anti-windup gain (0: none)"),
     )
     states = (

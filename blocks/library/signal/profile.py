@@ -19,7 +19,7 @@ class Profile(Block):
     ports = (signal_out("y", "the profile value at time t"),)
     params = (
         Param("times", "s", None, None, None, "breakpoint times, strictly increasing", array=True),
-        Param("values", "1", None, None, None, "profile values at the breakpoint times (SI)", array=True),
+        Param("values", "SI", None, None, None, "profile values at the breakpoint times (SI)", array=True),
     )
 
     @staticmethod

@@ -18,10 +18,10 @@ class Ramp(Block):
     ports = (signal_out("y", "the ramp signal"),)
     params = (
         Param("t_start", "s", 0.0, None, None, "time the ramp starts"),
-        Param("y0", "1", 0.0, None, None, "value before the ramp starts (SI)"),
+        Param("y0", "SI", 0.0, None, None, "value before the ramp starts (SI)"),
         Param("slope", "1/s", 1.0, None, None, "slope of the unbounded ramp (used when duration = 0)"),
         Param("duration", "s", 0.0, 0.0, None, "ramp time to reach y1, then hold; 0: unbounded ramp at slope"),
-        Param("y1", "1", 1.0, None, None, "final value reached after duration (used when duration > 0)"),
+        Param("y1", "SI", 1.0, None, None, "final value reached after duration (used when duration > 0)"),
     )
 
     @staticmethod

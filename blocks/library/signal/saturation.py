@@ -16,8 +16,8 @@ class Saturation(Block):
 
     ports = (signal_in("u", "input"), signal_out("y", "limited input"))
     params = (
-        Param("lower", "1", None, None, None, "lower limit (SI)"),
-        Param("upper", "1", None, None, None, "upper limit (SI)"),
+        Param("lower", "SI", None, None, None, "lower limit (SI)"),
+        Param("upper", "SI", None, None, None, "upper limit (SI)"),
     )
 
     @staticmethod

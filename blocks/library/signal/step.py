@@ -16,8 +16,8 @@ class Step(Block):
     ports = (signal_out("y", "the step signal"),)
     params = (
         Param("t_step", "s", 0.0, None, None, "time of the step"),
-        Param("y0", "1", 0.0, None, None, "value before the step (SI)"),
-        Param("y1", "1", 1.0, None, None, "value from the step on (SI)"),
+        Param("y0", "SI", 0.0, None, None, "value before the step (SI)"),
+        Param("y1", "SI", 1.0, None, None, "value from the step on (SI)"),
     )
 
     @staticmethod

@@ -19,9 +19,9 @@ class Sum(Block):
         signal_out("y", "weighted sum"),
     )
     params = (
-        Param("k1", "1", 1.0, None, None, "gain (sign) of u1"),
-        Param("k2", "1", 1.0, None, None, "gain (sign) of u2"),
-        Param("k3", "1", 1.0, None, None, "gain (sign) of u3"),
+        Param("k1", "SI", 1.0, None, None, "gain (sign) of u1"),
+        Param("k2", "SI", 1.0, None, None, "gain (sign) of u2"),
+        Param("k3", "SI", 1.0, None, None, "gain (sign) of u3"),
     )
 
     @staticmethod

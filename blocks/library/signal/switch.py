@@ -18,7 +18,7 @@ class Switch(Block):
         signal_in("u2", "passed while control < threshold"),
         signal_out("y", "the selected input"),
     )
-    params = (Param("threshold", "1", 0.5, None, None, "switching threshold on control (SI)"),)
+    params = (Param("threshold", "SI", 0.5, None, None, "switching threshold on control (SI)"),)
 
     @staticmethod
     def outputs(u1, control, u2, threshold):

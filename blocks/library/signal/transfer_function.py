@@ -25,8 +25,8 @@ class TransferFunction(Block):
 
     ports = (signal_in("u", "input"), signal_out("y", "output"))
     params = (
-        Param("num", "1", None, None, None, "numerator coefficients, descending powers of s (SI)", array=True),
-        Param("den", "1", None, None, None, "denominator coefficients, descending powers of s, den[0] != 0 (SI)",
+        Param("num", "SI", None, None, None, "numerator coefficients, descending powers of s (SI)", array=True),
+        Param("den", "SI", None, None, None, "denominator coefficients, descending powers of s, den[0] != 0 (SI)",
               array=True),
     )
     states = (State("x", "1", 0.0, 1.0, "controllable canonical form state", size=lambda n: n["den"] - 1),)

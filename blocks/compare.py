@@ -1,0 +1,326 @@
+"""A simulated curve against reference points (data sheet or measurement): ``vphs diff``.
+
+For each compared curve y(x), with the simulated curve (x_s, y_s) and the reference points (x_k, y_k),
+k = 1..n, all in the REFERENCE's units (converted through SI, never by guessing):
+
+    y_s(x_k)  linear interpolation of the simulated curve at x_k (x_s strictly increasing;
+              an x_k outside [x_s,min, x_s,max] is an error, never an extrapolation)
+    e_k       = y_s(x_k) - y_k                       (simulated minus reference)
+    RMSE      = sqrt( (1/n) * sum e_k^2 )
+    mean      = (1/n) * sum e_k                      (the bias; positive: simulation above the reference)
+    max |e|   = max_k |e_k|, reported with the x_k where it occurs (the first such point)
+
+Reference points whose y cell is empty are left out of that curve (n counts the points used). With a
+grouping column in the reference, each group gets a row of its own after the row over all points.
+
+x at the ends of the simulated range: a reference x within 1e-9 of the span (relative) outside the range
+is taken as the end point, so that "3" and a simulated end written as 2.9999999999 meet; anything further
+out is an error.
+
+Names: ``--x`` names the abscissa (default ``t``), ``--y`` (repeatable) the curves; ``sim=ref`` maps a
+simulated name to a reference name. Without ``--y``, every reference column with a unit (other than x and
+the grouping column) that the simulation also has, matched by name.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from blocks.datafile import DataFileError, Table
+from blocks.units import nearest, parse_unit
+
+EDGE_TOLERANCE = 1e-9  # relative to the simulated x span: how far outside the range still counts as the end
+
+
+@dataclass
+class CurveStats:
+    sim: str
+    ref: str
+    group: str  # "all" or a group label
+    unit: str  # the reference's unit of y
+    n: int
+    rmse: float
+    mean: float
+    max_abs: float
+    x_at_max: float
+
+    @property
+    def curve(self) -> str:
+        return self.sim if self.sim == self.ref else f"{self.sim}={self.ref}"
+
+
+@dataclass
+class CurveData:
+    """One compared curve, everything in the reference's units (for tables and plots)."""
+
+    sim: str
+    ref: str
+    unit: str
+    x_sim: np.ndarray  # the whole simulated curve
+    y_sim: np.ndarray
+    x_ref: np.ndarray  # the reference points used (empty y cells left out)
+    y_ref: np.ndarray
+    y_at_ref: np.ndarray  # the simulated curve interpolated at x_ref
+    labels: list[str] | None  # group label of each point used
+
+    @property
+    def error(self) -> np.ndarray:
+        return self.y_at_ref - self.y_ref
+
+
+@dataclass
+class Comparison:
+    simulated: str
+    reference: str
+    x_sim: str
+    x_ref: str
+    x_unit: str
+    curves: list[CurveData]
+    stats: list[CurveStats]
+    skipped: list[str]  # reference columns with a unit that the simulation does not have (default matching)
+
+    def format(self) -> str:
+        """The statistics as an aligned text table (the reference's units)."""
+        head = ["curve", "group", "unit", "n", "RMSE", "mean error", "max |error|", f"at {self.x_ref} [{self.x_unit}]"]
+        rows = [[s.curve, s.group, s.unit, str(s.n), _g(s.rmse), _g(s.mean), _g(s.max_abs), _g(s.x_at_max)]
+                for s in self.stats]
+        if not any(s.group != "all" for s in self.stats):
+            head.pop(1)
+            rows = [r[:1] + r[2:] for r in rows]
+        widths = [max(len(r[i]) for r in [head] + rows) for i in range(len(head))]
+        lines = ["  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))).rstrip()
+                 for r in [head] + rows]
+        note = f"{self.simulated} vs {self.reference} (error = simulated - reference, in the reference's units)"
+        return "\n".join([note] + lines) + "\n"
+
+    def to_csv_text(self) -> str:
+        buffer = io.StringIO()
+        writer = csv.writer(buffer, lineterminator="\n")
+        writer.writerow(["curve", "simulated", "reference", "group", "unit", "n", "rmse", "mean_error",
+                         "max_abs_error", "x_at_max", "x", "x_unit"])
+        for s in self.stats:
+            writer.writerow([s.curve, s.sim, s.ref, s.group, s.unit, s.n, f"{s.rmse:.10g}", f"{s.mean:.10g}",
+                             f"{s.max_abs:.10g}", f"{s.x_at_max:.10g}", self.x_ref, self.x_unit])
+        return buffer.getvalue()
+
+    def plot(self, path: str | Path) -> None:
+        """One panel pair per curve: simulated line and reference points, and the error beneath;
+        one shared x axis. Written atomically."""
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        from blocks.result import atomic_write_figure
+
+        n = len(self.curves)
+        fig, axes = plt.subplots(2 * n, 1, sharex=True, figsize=(9, 1.2 + 3.4 * n), squeeze=False,
+                                 gridspec_kw={"height_ratios": [3, 1.3] * n})
+        for k, c in enumerate(self.curves):
+            top, bottom = axes[2 * k, 0], axes[2 * k + 1, 0]
+            top.plot(c.x_sim, c.y_sim, "-", color="C0", lw=1.2, label=f"simulated {c.sim}")
+            for m, (label, idx) in enumerate(_point_groups(c.labels, len(c.x_ref))):
+                idx = idx[np.argsort(c.x_ref[idx], kind="stable")]  # the error line runs along x
+                name = f"reference {c.ref}" + (f" ({label})" if label is not None else "")
+                top.plot(c.x_ref[idx], c.y_ref[idx], "o", ms=4, mfc="none", color=f"C{1 + m}", label=name)
+                bottom.plot(c.x_ref[idx], c.error[idx], "o-", ms=3, lw=0.8, color=f"C{1 + m}")
+            bottom.axhline(0.0, color="0.5", lw=0.8)
+            top.set_ylabel(f"{c.ref} [{c.unit}]")
+            bottom.set_ylabel(f"error [{c.unit}]")
+            for ax in (top, bottom):
+                ax.grid(True, alpha=0.3)
+            top.legend(loc="best", fontsize="small")
+        axes[-1, 0].set_xlabel(f"{self.x_ref} [{self.x_unit}]")
+        fig.suptitle(f"{Path(self.simulated).name} vs {Path(self.reference).name}", fontsize="medium")
+        fig.tight_layout()
+        try:
+            atomic_write_figure(fig, Path(path))
+        finally:
+            plt.close(fig)
+
+
+def _point_groups(labels, n):
+    if labels is None:
+        return [(None, np.arange(n))]
+    order: dict[str, list[int]] = {}
+    for k, label in enumerate(labels):
+        order.setdefault(label, []).append(k)
+    return [(label, np.array(idx, dtype=int)) for label, idx in order.items()]
+
+
+def _g(value: float) -> str:
+    return f"{value:.4g}"
+
+
+# ---- names ----------------------------------------------------------------------------------------------
+def split_pair(text: str) -> tuple[str, str]:
+    """``"sim=ref"`` -> ("sim", "ref"); ``"name"`` -> ("name", "name")."""
+    sim, sep, ref = text.partition("=")
+    sim, ref = sim.strip(), ref.strip()
+    if not sep:
+        return sim, sim
+    return sim, ref
+
+
+def check_reference_columns(reference: Table, x: str, ys: list[str]) -> None:
+    """The reference-side names exist and carry units (checked before a netlist is run)."""
+    for text in [x] + list(ys):
+        sim, ref = split_pair(text)
+        if not sim or not ref:
+            raise DataFileError(reference.file, f"'{text}': expected a column name or SIM_NAME=REF_NAME")
+        _ref_column(reference, ref)
+
+
+def _ref_column(reference: Table, name: str) -> str:
+    if name == reference.group:
+        raise reference.error("is the grouping column (no unit): it cannot be compared", name)
+    if name not in reference.columns:
+        hint = nearest(name, reference.columns)
+        known = ", ".join(reference.header(n) for n in reference.columns)
+        raise DataFileError(reference.file, f"no column '{name}' (columns: {known})"
+                            + (f"; did you mean {', '.join(hint)}?" if hint else ""), reference.header_line)
+    return name
+
+
+def _sim_column(simulated: Table, name: str) -> str:
+    if name not in simulated.columns:
+        hint = nearest(name, simulated.columns)
+        raise DataFileError(simulated.file, f"no simulated column '{name}' (simulated: "
+                            f"{', '.join(simulated.columns)})" + (f"; did you mean {', '.join(hint)}?" if hint else ""),
+                            simulated.header_line)
+    return name
+
+
+def _same_dimension(simulated: Table, sim: str, reference: Table, ref: str) -> None:
+    a, b = parse_unit(simulated.units[sim]), parse_unit(reference.units[ref])
+    if not a.same_dimension(b):
+        raise reference.error(f"unit [{reference.units[ref]}] ({b.describe_dims()}) does not match the simulated "
+                              f"'{simulated.header(sim)}' ({a.describe_dims()}) in {simulated.file}", ref)
+
+
+# ---- the comparison -------------------------------------------------------------------------------------
+def resolve(simulated: Table, reference: Table, x: str = "t", ys: list[str] | None = None):
+    """The (sim, ref) names of x and of each curve, checked to exist with matching dimensions, and the
+    reference columns left out by default matching. Needs only the names and units of ``simulated``."""
+    x_sim, x_ref = split_pair(x)
+    check_reference_columns(reference, x, ys or [])
+    _sim_column(simulated, x_sim)
+    _same_dimension(simulated, x_sim, reference, x_ref)
+
+    skipped: list[str] = []
+    if ys:
+        pairs = [split_pair(y) for y in ys]
+    else:
+        candidates = [n for n in reference.columns if n != x_ref]
+        pairs = [(n, n) for n in candidates if n in simulated.columns and n != x_sim]
+        skipped = [n for n in candidates if n not in simulated.columns]
+        if not pairs:
+            raise DataFileError(reference.file, f"no reference column matches a simulated one (reference: "
+                                f"{', '.join(candidates) or 'none'}; simulated: {', '.join(simulated.columns)}); "
+                                f"name them with --y SIM_NAME=REF_NAME", reference.header_line)
+    for sim, ref in pairs:
+        _sim_column(simulated, sim)
+        _same_dimension(simulated, sim, reference, ref)
+    return (x_sim, x_ref), pairs, skipped
+
+
+def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | None = None) -> Comparison:
+    """Interpolate the simulated curves onto the reference's x points and measure the errors."""
+    (x_sim, x_ref), pairs, skipped = resolve(simulated, reference, x, ys)
+    xs = simulated.columns[x_sim]
+    _check_increasing(simulated, x_sim)
+    x_unit = reference.units[x_ref]
+    xr = reference.columns[x_ref]
+    missing = np.flatnonzero(np.isnan(xr))
+    if missing.size:
+        raise reference.error("empty cell: every reference point needs its x", x_ref, int(missing[0]))
+    span = xs[-1] - xs[0]
+    low, high = xs[0] - EDGE_TOLERANCE * span, xs[-1] + EDGE_TOLERANCE * span
+    outside = np.flatnonzero((xr < low) | (xr > high))
+    if outside.size:
+        k = int(outside[0])
+        f = parse_unit(x_unit).factor
+        raise reference.error(f"{x_ref} = {xr[k] / f:g} {x_unit} is outside the simulated range "
+                              f"{xs[0] / f:g} .. {xs[-1] / f:g} {x_unit} ({simulated.file}); no extrapolation",
+                              x_ref, k)
+    xr = np.clip(xr, xs[0], xs[-1])
+
+    curves, stats = [], []
+    for sim, ref in pairs:
+        ys_si = simulated.columns[sim]
+        bad = np.flatnonzero(np.isnan(ys_si))
+        if bad.size:
+            raise simulated.error("missing value (empty or NaN) in the simulated curve", sim, int(bad[0]))
+        unit = reference.units[ref]
+        f = parse_unit(unit).factor
+        used = np.flatnonzero(~np.isnan(reference.columns[ref]))
+        if used.size == 0:
+            raise reference.error("no values to compare (every cell is empty)", ref)
+        labels = [reference.labels[k] for k in used] if reference.labels is not None else None
+        curve = CurveData(sim=sim, ref=ref, unit=unit, x_sim=xs / parse_unit(x_unit).factor, y_sim=ys_si / f,
+                          x_ref=xr[used] / parse_unit(x_unit).factor, y_ref=reference.columns[ref][used] / f,
+                          y_at_ref=np.interp(xr[used], xs, ys_si) / f, labels=labels)
+        curves.append(curve)
+        stats.append(_stats(curve, np.arange(used.size), "all"))
+        if labels is not None:
+            for label, idx in _point_groups(labels, used.size):
+                stats.append(_stats(curve, idx, label))
+    return Comparison(simulated=simulated.file, reference=reference.file, x_sim=x_sim, x_ref=x_ref, x_unit=x_unit,
+                      curves=curves, stats=stats, skipped=skipped)
+
+
+def _stats(curve: CurveData, idx: np.ndarray, group: str) -> CurveStats:
+    e = curve.error[idx]
+    k = int(np.argmax(np.abs(e)))
+    return CurveStats(sim=curve.sim, ref=curve.ref, group=group, unit=curve.unit, n=int(e.size),
+                      rmse=math.sqrt(float(np.mean(e**2))), mean=float(np.mean(e)), max_abs=float(abs(e[k])),
+                      x_at_max=float(curve.x_ref[idx][k]))
+
+
+def _check_increasing(table: Table, name: str) -> None:
+    x = table.columns[name]
+    bad = np.flatnonzero(np.isnan(x))
+    if bad.size:
+        raise table.error("missing value (empty or NaN) in the simulated x", name, int(bad[0]))
+    if x.size < 2:
+        raise table.error("the simulated curve needs at least two points", name)
+    step = np.diff(x)
+    bad = np.flatnonzero(step <= 0)
+    if bad.size:
+        k = int(bad[0]) + 1
+        f = parse_unit(table.units[name]).factor
+        what = "repeated" if step[k - 1] == 0 else "decreasing"
+        raise table.error(f"x must be strictly increasing in the simulated curve: {x[k] / f:g} after "
+                          f"{x[k - 1] / f:g} ({what})", name, k)
+
+
+# ---- the simulated side ---------------------------------------------------------------------------------
+def is_netlist(path: str | Path) -> bool:
+    return Path(path).suffix.lower() in (".yaml", ".yml")
+
+
+def table_from_result(result) -> Table:
+    """A simulation :class:`~blocks.result.Result` as a table: ``t [s]`` and the logged signals (SI inside)."""
+    return _signal_table(result.file, result.names, result.display_units, result.t, result.values)
+
+
+def planned_table(circuit) -> Table:
+    """The names and units a circuit will log, without values: to check a comparison before running."""
+    outputs = circuit.outputs
+    return _signal_table(circuit.flat.file, [o.name for o in outputs], [o.display_unit for o in outputs],
+                         np.empty(0), np.empty((0, len(outputs))))
+
+
+def _signal_table(file, names, display_units, t, values) -> Table:
+    columns = {"t": np.asarray(t, dtype=float)}
+    units = {"t": "s"}
+    for k, name in enumerate(names):
+        columns[name] = np.asarray(values[:, k], dtype=float)
+        units[name] = display_units[k]
+    return Table(file=str(file), columns=columns, units=units, positions={n: i for i, n in enumerate(columns, start=1)})

@@ -1,0 +1,186 @@
+"""Data files with units: read a CSV of measured, data-sheet or simulated points into SI arrays.
+
+The format (what ``vphs run -o`` writes, and what measurements and data-sheet readings are written in)::
+
+    # comment lines start with '#', anywhere; blank lines are skipped
+    setting,p1 [bar],Q [l/min]
+    1,33.4,12.5
+    1,39.3,24.6
+
+- The first line that is not a comment is the header: each column is ``name [unit]``. The unit is any unit
+  :mod:`blocks.units` reads (``bar``, ``l/min``, ``m^3/s``, ``rad/s``, ``rpm``); ``[1]`` (or ``[-]``) is a
+  plain number.
+- At most one column may have no unit: the grouping column (``setting``, ``run``). Its cells are labels
+  (text), kept as written and never read as numbers, so a forgotten unit cannot pass silently as a number
+  in SI; a second column without a unit is an error.
+- Every other cell is a finite number. An empty cell is a missing value (NaN in the table); a cell such as
+  ``abc``, ``nan`` or ``inf`` is an error.
+
+Values are converted to SI on reading (``p1 [bar]`` 33.4 -> 3.34e6 Pa); the unit as written stays in
+``Table.units`` for reports. Every error is one line naming the file, the line in it (comment lines
+counted) and the column (its number and header): ``ref.csv:7:3: column 'p1 [bar]': 'abc' is not a number``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from blocks.errors import NetlistError
+from blocks.units import UnitError, parse_unit
+
+_HEADER = re.compile(r"^(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?$")
+_DIMENSIONLESS = {"-": "1", "": None}
+
+
+class DataFileError(NetlistError):
+    """A problem in a data file, located by line (1-based, comment lines counted) and column (1-based)."""
+
+
+@dataclass
+class Table:
+    """Columns of a data file in SI, with the units they were written in.
+
+    ``columns[name]`` is the SI array (NaN where a cell was empty); ``units[name]`` the unit as written in
+    the header; ``group`` names the grouping column (the one column without a unit) or is None, ``labels``
+    are its cells row by row and ``groups`` maps each label to its row indices (in order of first appearance).
+    ``lines[k]`` is the file line of row k (None for a table that did not come from a file) and
+    ``positions[name]`` the 1-based column number, so that later checks can name the place they fail.
+    """
+
+    file: str
+    columns: dict[str, np.ndarray]
+    units: dict[str, str]
+    group: str | None = None
+    labels: list[str] | None = None
+    header_line: int | None = None
+    lines: list[int] | None = None
+    positions: dict[str, int] = field(default_factory=dict)
+
+    @property
+    def groups(self) -> dict[str, np.ndarray]:
+        """Row indices of each group label, in order of first appearance ({} without a grouping column)."""
+        if self.labels is None:
+            return {}
+        found: dict[str, list[int]] = {}
+        for k, label in enumerate(self.labels):
+            found.setdefault(label, []).append(k)
+        return {label: np.array(rows, dtype=int) for label, rows in found.items()}
+
+    def in_unit(self, name: str, unit: str | None = None) -> np.ndarray:
+        """A column in ``unit`` (the unit it was written in by default)."""
+        return self.columns[name] / parse_unit(unit or self.units[name]).factor
+
+    def header(self, name: str) -> str:
+        unit = self.units.get(name)
+        return f"{name} [{unit}]" if unit else name
+
+    def error(self, message: str, name: str | None = None, row: int | None = None) -> DataFileError:
+        """An error at row ``row`` (index into the columns; None: the header) of column ``name``."""
+        column = self.positions.get(name) if name is not None else None
+        if name is not None:
+            message = f"column '{self.header(name)}': {message}"
+        if row is None:
+            return DataFileError(self.file, message, self.header_line, column if self.header_line else None)
+        if self.lines is None:  # not from a file (a simulation result): name the sample instead
+            return DataFileError(self.file, f"sample {row + 1}: {message}")
+        return DataFileError(self.file, message, self.lines[row], column)
+
+
+def read_table(path: str | Path) -> Table:
+    """Read a data file (format in the module docstring) into a :class:`Table` in SI."""
+    file = str(path)
+    p = Path(path)
+    if not p.exists():
+        raise DataFileError(file, "file not found")
+    if p.is_dir():
+        raise DataFileError(file, "is a folder, not a data file")
+    try:
+        text = p.read_text(encoding="utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise DataFileError(file, f"not a UTF-8 text file (byte {exc.start})") from None
+    except OSError as exc:
+        raise DataFileError(file, f"cannot read: {exc.strerror}") from None
+
+    rows: list[tuple[int, list[str]]] = []
+    for line_no, line in enumerate(text.splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        try:
+            cells = next(csv.reader([line]))
+        except csv.Error as exc:
+            raise DataFileError(file, f"cannot read the line as CSV: {exc}", line_no) from None
+        rows.append((line_no, [c.strip() for c in cells]))
+    if not rows:
+        raise DataFileError(file, "no header line (the file is empty or has only comments)")
+
+    header_line, header = rows[0]
+    names, units, group = _read_header(file, header_line, header)
+    width = len(header)
+    body = rows[1:]
+    if not body:
+        raise DataFileError(file, "no data rows below the header", header_line)
+
+    factors = {name: parse_unit(unit).factor for name, unit in units.items()}
+    columns = {name: np.empty(len(body)) for name in units}
+    labels: list[str] = []
+    lines = []
+    for k, (line_no, cells) in enumerate(body):
+        if len(cells) != width:
+            raise DataFileError(file, f"{len(cells)} cells, the header has {width}", line_no)
+        lines.append(line_no)
+        for col, (name, cell) in enumerate(zip(names, cells), start=1):
+            if name == group:
+                labels.append(cell)
+                continue
+            columns[name][k] = _number(file, line_no, col, header[col - 1], cell) * factors[name]
+    return Table(file=file, columns=columns, units=units, group=group, labels=labels if group else None,
+                 header_line=header_line, lines=lines, positions={n: i for i, n in enumerate(names, start=1)})
+
+
+def _read_header(file: str, line_no: int, header: list[str]) -> tuple[list[str], dict[str, str], str | None]:
+    names: list[str] = []
+    units: dict[str, str] = {}
+    group = None
+    for col, cell in enumerate(header, start=1):
+        m = _HEADER.match(cell)
+        if not m or not m.group("name"):
+            raise DataFileError(file, f"column header '{cell}': expected 'name [unit]'", line_no, col)
+        name, unit = m.group("name").strip(), m.group("unit")
+        if name in names:
+            raise DataFileError(file, f"column '{name}' appears twice in the header", line_no, col)
+        names.append(name)
+        if unit is None:
+            if group is not None:
+                raise DataFileError(file, f"column '{name}' has no unit in brackets; only one column (the "
+                                          f"grouping column, here '{group}') may go without; write "
+                                          f"'{name} [1]' for a plain number", line_no, col)
+            group = name
+            continue
+        unit = unit.strip()
+        unit = _DIMENSIONLESS.get(unit, unit)
+        if unit is None:
+            raise DataFileError(file, f"column '{cell}': empty unit; write [1] for a plain number", line_no, col)
+        try:
+            parse_unit(unit)
+        except UnitError as exc:
+            raise DataFileError(file, f"column '{cell}': {exc}", line_no, col) from None
+        units[name] = unit
+    return names, units, group
+
+
+def _number(file: str, line_no: int, col: int, header: str, cell: str) -> float:
+    if cell == "":
+        return math.nan  # a missing value
+    try:
+        value = float(cell)
+    except ValueError:
+        value = None
+    if value is None or not math.isfinite(value):
+        raise DataFileError(file, f"column '{header}': '{cell}' is not a number", line_no, col)
+    return value
