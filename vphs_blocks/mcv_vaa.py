@@ -245,7 +245,7 @@ class MotionControlValveVAA(Block):
             pF2 = flow_force_pressure(q_r2, C2 - pt, p_crack, q_ff_max, dp_t)
         # static equilibria: line 1 piloted by p2 = V2 (eqs. 2.12/2.13), line 2 by p1 = V1 (eqs. 2.7/2.11)
         u1_eq = smooth_unit(vaa_opening_raw(C1, V2, pt, alpha, p_crack, p_s2, kp1, kp2, pF1, dN), u_w)
-        u2_eq = smooth_unit(vaa_opening_raw(C2, V1, pt, alpha, p_crack, p_s2, kp1, kp2, pF2, dN), u_w)
+        u2_eq = smooth_unit(vaa_opening_raw(C2, V2, pt, alpha, p_crack, p_s2, kp1, kp2, pF2, dN), u_w)
         der_pt = beta / V_t * (q_r1 + q_r2 - q_cv2_1 - q_cv2_2)
         return (q_cv2_1 - q_cv1_1, q_cv2_2 - q_cv1_2, q_cv1_1 - q_r1, q_cv1_2 - q_r2, der_pt,
                 du1, lowpass2_acceleration(u1_eq, u1, du1, wn, zeta),

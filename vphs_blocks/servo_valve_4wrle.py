@@ -26,7 +26,7 @@ def spool_edge_areas(s, s_db, s_ramp, A_max, A_n):
     o = beyond / (1.0 - s_db)
     meter_in = A_max * o
     meter_out = A_n + (A_max - A_n) * o
-    bleed = A_n * max(0.0, 1.0 - a / s_ramp)
+    bleed = A_n * max(0.0, 1.0 - beyond / s_ramp)
     if s >= 0.0:
         return meter_in, 0.0, bleed, meter_out
     return 0.0, meter_in, meter_out, bleed

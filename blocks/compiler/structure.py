@@ -107,6 +107,9 @@ def _find_prescribed(st: Structure) -> None:
                 other = st.prescribed[net][0]
                 raise comp.source.error(comp.path, f"net '{net}' is prescribed by two sources: {other} and {name}")
             st.prescribed[net] = (name, port)
+            initial = st.circuit.parameters.entries.get(f"{net}.initial")
+            if initial is not None:
+                raise initial.error(f"net '{net}' is held by the source {name}: an initial value would be ignored")
 
 
 def _signal_drivers(st: Structure) -> None:

@@ -95,6 +95,9 @@ def _load_spec(located: Located) -> spec.Netlist:
                 message += f" (allowed: {', '.join(near or sorted(parent.model_fields))})"
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
+        elif path[:1] == ("nets",) and len(path) <= 3:
+            message = ("a net is a list of '<component>.<port>' strings, or {ports: [...], volume:, initial:, "
+                       "bulk_modulus:}")
         raise located.error(path, f"{where}: {message}") from None
 
 
@@ -144,6 +147,9 @@ def flatten(file: str | Path) -> FlatCircuit:
                    located, ("outputs", name))
         for name, out in netlist.outputs.items()
     ]
+    for exposed, ref in netlist.ports.items():  # a file's own exposed ports must name something real
+        if ref not in builder.net_names:
+            builder._resolve_ref(ref, ref, located, ("ports", exposed))
     circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs)
     builder.table.order()  # unknown names and cycles are reported now, not at the first evaluation
     return circuit
