@@ -32,8 +32,10 @@ from pathlib import Path
 import numpy as np
 
 from blocks.errors import NetlistError
+from blocks.netlist.yaml_source import read_bounded
 from blocks.units import UnitError, parse_unit
 
+MAX_BYTES = 50_000_000
 _HEADER = re.compile(r"^(?P<name>[^\[\]]*?)\s*(?:\[(?P<unit>[^\[\]]*)\])?$")
 _DIMENSIONLESS = {"-": "1", "": None}
 
@@ -95,17 +97,14 @@ class Table:
 def read_table(path: str | Path) -> Table:
     """Read a data file (format in the module docstring) into a :class:`Table` in SI."""
     file = str(path)
-    p = Path(path)
-    if not p.exists():
-        raise DataFileError(file, "file not found")
-    if p.is_dir():
-        raise DataFileError(file, "is a folder, not a data file")
     try:
-        text = p.read_text(encoding="utf-8-sig")
+        raw = read_bounded(path, MAX_BYTES)
+    except NetlistError as exc:
+        raise DataFileError(file, exc.message) from None
+    try:
+        text = raw.decode("utf-8-sig")
     except UnicodeDecodeError as exc:
         raise DataFileError(file, f"not a UTF-8 text file (byte {exc.start})") from None
-    except OSError as exc:
-        raise DataFileError(file, f"cannot read: {exc.strerror}") from None
 
     rows: list[tuple[int, list[str]]] = []
     for line_no, line in enumerate(text.splitlines(), start=1):

@@ -123,6 +123,8 @@ class MotionControlValveVAA(Block):
         check valve 2, line j:  pt -> V_j for j = 1 and 2, so the relieved flow leaves by the lower-pressure
                                 V line (cross-line relief, text at fig. 2.14)          (A_cv2, p_cv2_crack, p_cv2_open)
         check valve law: A = A_leak + (A_max - A_leak)*smooth_step(dp, p_crack, p_open - p_crack)
+                         (the library check valve's C1 cubic; the thesis's Simscape check valve opens
+                         linearly between the same two pressures: same end points, same midpoint)
         every orifice:   q = Cd*A*sqrt(2/rho) * dp/(dp^2 + dp_t^2)^(1/4)
         d(pt)/dt = beta/V_t * (q_r1 + q_r2 - q_cv2,1 - q_cv2,2)
     Delivered to the nets: q_V1 = q_cv2,1 - q_cv1,1, q_V2 = q_cv2,2 - q_cv1,2, q_C1 = q_cv1,1 - q_r1,
@@ -143,7 +145,13 @@ class MotionControlValveVAA(Block):
     smax = max(., 0) rounded over |N| < dN/2 (exact eq. 2.7 for N <= -dN/2, exact eq. 2.11 for N >= dN/2);
     sat = clip to [0, 1] with corners rounded over u_w (exact in [u_w, 1 - u_w], exactly 0 for u <= 0).
     At u = 0 and in contact eq. 2.11 gives the crack relation of chapter 3: with pt = pv2 + (pv1 - pc)
-    and pc = p_C, pcr = pc*(alpha + 2) - pv1 - pv2*(alpha + 1)  (eq. 3.2).
+    and pc = p_C, pcr = pc*(alpha + 2) - pv1 - pv2*(alpha + 1)  (eq. 3.2; eq. 3.10's "pt = pv2 + (pc1 -
+    pv1)" is a sign slip of eq. 3.7's assumption, which eq. 3.2 uses).
+    The thesis gives no value for pcr2 (p_s2). The default, 400 bar (= kp2), keeps the pieces in contact
+    over the whole stroke even without pilot (N = p_s2 - kp2*u >= 0 for u <= 1), as the thesis's Simulink
+    model (built on eqs. 2.10 and 2.13 only) and its chapter-3 tests ("the two parts of the spool always
+    were connected") assume; p_s2 = 0 lets the pieces part as soon as the main spool lifts without pilot
+    assistance. Only the no-contact branch depends on it.
 
     Spool dynamics (fig. 2.17, table 2.9): u_i'' = wn^2*(u_eq,i - u_i) - 2*zeta*wn*u_i'. Table 2.9 gives
     12 Hz, zeta = 1.0 (the default); chapter 3.6 found 50 Hz (with 0.1 l at p3) fits the step tests best:
@@ -245,7 +253,7 @@ class MotionControlValveVAA(Block):
             pF2 = flow_force_pressure(q_r2, C2 - pt, p_crack, q_ff_max, dp_t)
         # static equilibria: line 1 piloted by p2 = V2 (eqs. 2.12/2.13), line 2 by p1 = V1 (eqs. 2.7/2.11)
         u1_eq = smooth_unit(vaa_opening_raw(C1, V2, pt, alpha, p_crack, p_s2, kp1, kp2, pF1, dN), u_w)
-        u2_eq = smooth_unit(vaa_opening_raw(C2, V2, pt, alpha, p_crack, p_s2, kp1, kp2, pF2, dN), u_w)
+        u2_eq = smooth_unit(vaa_opening_raw(C2, V1, pt, alpha, p_crack, p_s2, kp1, kp2, pF2, dN), u_w)
         der_pt = beta / V_t * (q_r1 + q_r2 - q_cv2_1 - q_cv2_2)
         return (q_cv2_1 - q_cv1_1, q_cv2_2 - q_cv1_2, q_cv1_1 - q_r1, q_cv1_2 - q_r2, der_pt,
                 du1, lowpass2_acceleration(u1_eq, u1, du1, wn, zeta),

@@ -17,7 +17,7 @@ def compensated_drop(p_P, p_port, p_LS, dp_c, dp_ls):
     dp = max(0, min(dp_c*f, p_P - p_port))
     """
     f = clamp((p_LS - p_port) / dp_ls, 0.0, 1.0)
-    return max(0.0, min(dp_c, p_P - p_port))
+    return max(0.0, min(dp_c * f, p_P - p_port))
 
 
 @register("pvg32")

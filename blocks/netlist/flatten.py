@@ -9,10 +9,10 @@ two sources prescribing one net, and subsystem files that include themselves.
 
 from __future__ import annotations
 
-import csv
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
 from pydantic import ValidationError
 
 from blocks import registry
@@ -21,10 +21,9 @@ from blocks.errors import NetlistError
 from blocks.netlist import spec
 from blocks.netlist.parameters import Entry, ParameterTable, make_array_entry, make_entry
 from blocks.netlist.yaml_source import Located, read_bounded, read_yaml
-from blocks.units import UnitError, nearest, parse_unit, quantity
+from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity
 
 MAX_SUBSYSTEM_DEPTH = 8
-MAX_CSV_BYTES = 50_000_000
 NET_BOUNDS = {
     "volume": Param("volume", "m^3", None, 0.0, 1e3, "volume of a hydraulic net", positive=True),
     "bulk_modulus": Param("bulk_modulus", "Pa", None, 0.0, 1e12, "bulk modulus of a hydraulic net", positive=True),
@@ -443,35 +442,23 @@ def _entry_text(entry: Entry) -> str:
 
 
 def read_csv_column(file: Path, column: str, unit: str, located: Located, path: tuple) -> tuple:
-    """One column of a CSV data file (header names carry units in brackets: ``p1 [bar]``), in SI."""
+    """One column of a data file (:func:`blocks.datafile.read_table`: header cells ``name [unit]``), in SI,
+    its unit checked against the parameter's declared unit."""
+    from blocks.datafile import read_table
+
     try:
-        text = read_bounded(file, MAX_CSV_BYTES).decode("utf-8")
+        table = read_table(file)
     except NetlistError as exc:
-        raise located.error(path, f"CSV file {file}: {exc.message}") from None
-    except UnicodeDecodeError:
-        raise located.error(path, f"CSV file {file}: not UTF-8 text") from None
-    rows = [row for row in csv.reader(line for line in text.splitlines() if not line.lstrip().startswith("#"))]
-    if not rows:
-        raise located.error(path, f"{file}: empty CSV file")
-    header = [h.strip() for h in rows[0]]
-    names = [h.split("[")[0].strip() for h in header]
-    if column in header:
-        index = header.index(column)
-    elif column in names:
-        index = names.index(column)
-    else:
-        raise located.error(path, f"{file}: no column '{column}' (columns: {', '.join(header)})")
-    given_unit = header[index].split("[", 1)[1].rstrip("]").strip() if "[" in header[index] else ""
-    values = []
-    for line_no, row in enumerate(rows[1:], start=2):
-        try:
-            number = float(row[index])
-        except (ValueError, IndexError):
-            raise located.error(path, f"{file}: row {line_no}, column '{column}': not a number") from None
-        try:
-            values.append(quantity(f"{number!r} {given_unit}", unit) if given_unit else number)
-        except UnitError as exc:
-            raise located.error(path, f"{file}: column '{column}': {exc}") from None
-    if not values:
+        raise located.error(path, f"CSV {exc}") from None
+    name = column.split("[")[0].strip()
+    if name not in table.columns:
+        raise located.error(path, f"{file}: no column '{column}' (columns: {', '.join(table.columns)})")
+    written = table.units[name]
+    if unit != GENERIC and not parse_unit(written).same_dimension(parse_unit(unit)):
+        raise located.error(path, f"{file}: column '{column}' is in {written}, expected a quantity in {unit}")
+    values = table.columns[name]
+    if not np.all(np.isfinite(values)):
+        raise located.error(path, f"{file}: column '{column}' has empty cells")
+    if values.size == 0:
         raise located.error(path, f"{file}: column '{column}' has no values")
-    return tuple(values)
+    return tuple(float(v) for v in values)

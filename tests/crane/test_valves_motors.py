@@ -270,6 +270,18 @@ def test_pvg_flow_falls_to_zero_at_p_ls(p_load_bar, fraction):
     assert d["q_P"] == -d["q_A"]  # A -> T is shut at full stroke: all that enters A came from P
 
 
+def test_pvg_ls_settings_are_per_port():
+    """p_LS_A limits P -> A only and p_LS_B limits P -> B only (table 2.3 gives one per port)."""
+    kw = dict(P=250 * BAR, p_LS_A=207 * BAR, p_LS_B=140 * BAR)
+    full = sqrt_law(7 * BAR, G["A_max"])
+    # 170 bar: inside A's LS band (f = 37/60), above B's setting (no flow)
+    assert pvg(A=170 * BAR, x=7e-3, **kw)["q_A"] == pytest.approx(sqrt_law(7 * BAR * 37 / 60, G["A_max"]), rel=2e-3)
+    assert pvg(B=170 * BAR, x=-7e-3, **kw)["q_B"] == 0.0
+    # 110 bar: below A's band (full flow), inside B's (f = 30/60)
+    assert pvg(A=110 * BAR, x=7e-3, **kw)["q_A"] == pytest.approx(full, rel=1e-4)
+    assert pvg(B=110 * BAR, x=-7e-3, **kw)["q_B"] == pytest.approx(sqrt_law(3.5 * BAR, G["A_max"]), rel=2e-3)
+
+
 def test_pvg_supply_limits_and_load_holding():
     # compensator fully open: the edge sees what the supply leaves (4 bar < 7 bar)
     d = pvg(P=150 * BAR, A=146 * BAR, x=7e-3)
