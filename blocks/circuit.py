@@ -163,13 +163,17 @@ class Circuit:
     def _cavitation(self, outcome, vec: Vectors) -> list[str]:
         p_vap = vec.values["fluid.vapour_pressure"]
         found = []
-        for net, slot in self.structure.net_state.items():
+        pressures = list(self.structure.net_state.items()) + [  # and blocks' internal pressure nodes
+            (slot.name, slot) for slots in self.structure.block_states.values() for slot in slots.values()
+            if slot.unit == "Pa" and slot.size == 1]
+        for net, slot in pressures:
             low = outcome.x_min[slot.index]
             if low < p_vap:
                 column = outcome.X[:, slot.index]
                 below = np.nonzero(column < p_vap)[0]
                 when = f" first seen at t = {outcome.t[below[0]]:.4g} s" if below.size else " between output samples"
-                found.append(f"cavitation: net '{net}' fell to {low / 1e5:.3g} bar, below the vapour pressure "
+                what = f"net '{net}'" if net in self.structure.net_state else f"the pressure {net}"
+                found.append(f"cavitation: {what} fell to {low / 1e5:.3g} bar, below the vapour pressure "
                              f"{p_vap / 1e5:.3g} bar,{when}")
         return found
 

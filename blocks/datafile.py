@@ -13,6 +13,11 @@ The format (what ``vphs run -o`` writes, and what measurements and data-sheet re
 - At most one column may have no unit: the grouping column (``setting``, ``run``). Its cells are labels
   (text), kept as written and never read as numbers, so a forgotten unit cannot pass silently as a number
   in SI; a second column without a unit is an error.
+- When the caller names the grouping column (``read_table(path, group="setting")``, as an experiment
+  file does), several columns may go without a unit: the named one holds the group labels; any other
+  column without a unit whose cells are all numbers is a dimensionless number (unit ``1``, e.g. a pilot
+  ratio); one with any text cell is a column of labels, kept as written in ``Table.text`` (e.g. a
+  set-screw note) and never compared.
 - Every other cell is a finite number. An empty cell is a missing value (NaN in the table); a cell such as
   ``abc``, ``nan`` or ``inf`` is an error.
 
@@ -63,6 +68,8 @@ class Table:
     header_line: int | None = None
     lines: list[int] | None = None
     positions: dict[str, int] = field(default_factory=dict)
+    text: dict[str, list[str]] = field(default_factory=dict)
+    """Columns of text labels other than the grouping column (only when the caller named the group)."""
 
     @property
     def groups(self) -> dict[str, np.ndarray]:
@@ -94,8 +101,12 @@ class Table:
         return DataFileError(self.file, message, self.lines[row], column)
 
 
-def read_table(path: str | Path) -> Table:
-    """Read a data file (format in the module docstring) into a :class:`Table` in SI."""
+def read_table(path: str | Path, group: str | None = None) -> Table:
+    """Read a data file (format in the module docstring) into a :class:`Table` in SI.
+
+    ``group`` names the grouping column (which must exist); other columns without a unit are then read as
+    dimensionless numbers or as text labels (module docstring). Without it, the one column without a unit
+    is the grouping column and a second is an error."""
     file = str(path)
     try:
         raw = read_bounded(path, MAX_BYTES)
@@ -119,9 +130,11 @@ def read_table(path: str | Path) -> Table:
         raise DataFileError(file, "no header line (the file is empty or has only comments)")
 
     header_line, header = rows[0]
+    body = rows[1:]
+    if group is not None:
+        return _read_named_group(file, header_line, header, body, group)
     names, units, group = _read_header(file, header_line, header)
     width = len(header)
-    body = rows[1:]
     if not body:
         raise DataFileError(file, "no data rows below the header", header_line)
 
@@ -140,6 +153,70 @@ def read_table(path: str | Path) -> Table:
             columns[name][k] = _number(file, line_no, col, header[col - 1], cell) * factors[name]
     return Table(file=file, columns=columns, units=units, group=group, labels=labels if group else None,
                  header_line=header_line, lines=lines, positions={n: i for i, n in enumerate(names, start=1)})
+
+
+def _read_named_group(file: str, header_line: int, header: list[str], body: list, group: str) -> Table:
+    """read_table with the grouping column named by the caller: unitless columns are numbers or labels."""
+    names: list[str] = []
+    units: dict[str, str | None] = {}
+    for col, cell in enumerate(header, start=1):
+        m = _HEADER.match(cell)
+        if not m or not m.group("name"):
+            raise DataFileError(file, f"column header '{cell}': expected 'name [unit]'", header_line, col)
+        name = m.group("name").strip()
+        if name in names:
+            raise DataFileError(file, f"column '{name}' appears twice in the header", header_line, col)
+        names.append(name)
+        unit = m.group("unit")
+        if unit is not None:
+            unit = _DIMENSIONLESS.get(unit.strip(), unit.strip())
+            if unit is None:
+                raise DataFileError(file, f"column '{cell}': empty unit; write [1] for a plain number", header_line, col)
+            try:
+                parse_unit(unit)
+            except UnitError as exc:
+                raise DataFileError(file, f"column '{cell}': {exc}", header_line, col) from None
+        units[name] = unit
+    if group not in names:
+        raise DataFileError(file, f"no grouping column '{group}' (columns: {', '.join(names)})", header_line)
+    if not body:
+        raise DataFileError(file, "no data rows below the header", header_line)
+    width = len(header)
+    cells_of: dict[str, list[str]] = {name: [] for name in names}
+    lines = []
+    for line_no, cells in body:
+        if len(cells) != width:
+            raise DataFileError(file, f"{len(cells)} cells, the header has {width}", line_no)
+        lines.append(line_no)
+        for name, cell in zip(names, cells):
+            cells_of[name].append(cell)
+    columns: dict[str, np.ndarray] = {}
+    out_units: dict[str, str] = {}
+    text: dict[str, list[str]] = {}
+    for col, name in enumerate(names, start=1):
+        if name == group:
+            continue
+        unit = units[name]
+        if unit is None and not all(_is_number(c) for c in cells_of[name]):
+            text[name] = cells_of[name]
+            continue
+        unit = unit or "1"
+        factor = parse_unit(unit).factor
+        columns[name] = np.array([_number(file, line_no, col, header[col - 1], cell) * factor
+                                  for line_no, cell in zip(lines, cells_of[name])])
+        out_units[name] = unit
+    return Table(file=file, columns=columns, units=out_units, group=group, labels=cells_of[group],
+                 header_line=header_line, lines=lines, positions={n: i for i, n in enumerate(names, start=1)},
+                 text=text)
+
+
+def _is_number(cell: str) -> bool:
+    if cell == "":
+        return True
+    try:
+        return math.isfinite(float(cell))
+    except ValueError:
+        return False
 
 
 def _read_header(file: str, line_no: int, header: list[str]) -> tuple[list[str], dict[str, str], str | None]:

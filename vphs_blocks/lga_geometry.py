@@ -43,6 +43,7 @@ m*S^2/3 = 12 kg*m^2 for the 3 m, 401 kg arm, below the m*L^2/12 = 301 kg*m^2 of 
 transverse axis, and the long-axis J_xi would contain L^2: the labels xi and zeta are swapped. Settled on:
   J_xi   = m*S^2/3                      (long axis; exact for a thin-walled square tube)
   J_eta  = J_zeta = 7/24*m*S^2 + m*L^2/12   (transverse axes)                  (2.36-2.41)
+(With the printed labels J_A would be 515 kg*m^2 smaller: 4075 instead of 4590 kg*m^2 at theta1 = d2 = 0.)
 Gripper head, a box a x b x c (a along xi, horizontal; c along eta; b out of the plane), kept horizontal:
   J3_zeta = m3*(a^2 + c^2)/12,  J3_eta = m3*(a^2 + b^2)/12                    (2.42, 2.43)
 Baseplate, a disc of outer/inner RADIUS R/r (the text says diameter; the formula is the radius one):

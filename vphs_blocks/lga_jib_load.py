@@ -33,7 +33,7 @@ GEOMETRY = (
     Param("L2", "m", THESIS["L2"], 0.0, 50.0, "telescope length"),
     Param("eta_cs2", "m", THESIS["eta_cs2"], -5.0, 5.0, "telescope axis across the main arm's axis (-50 mm)"),
     Param("m3", "kg", THESIS["m3"], 0.0, 1e5, "gripper head mass (add a gripped load here)"),
-    Param("xi3", "m", THESIS["xi3"], -10.0, 10.0, "gripper mass centre from the telescope tip, horizontal (chosen a/2)"),
+    Param("xi3", "m", THESIS["xi3"], -10.0, 10.0, "gripper centre from the telescope tip, horizontal (chosen: a/2)"),
     Param("eta3", "m", THESIS["eta3"], -10.0, 10.0, "gripper mass centre from the telescope tip, down (chosen 0)"),
     Param("a3", "m", THESIS["a3"], 0.0, 10.0, "gripper box length, horizontal in the arm's plane"),
     Param("b3", "m", THESIS["b3"], 0.0, 10.0, "gripper box width, out of the arm's plane"),

@@ -157,7 +157,8 @@ class MotionControlValveVAA(Block):
     12 Hz, zeta = 1.0 (the default); chapter 3.6 found 50 Hz (with 0.1 l at p3) fits the step tests best:
     set wn = "50 Hz" for that.
 
-    Flow force (chapter 3, eq. 3.13; flow_force = 1, default 0 = the chapter-2 model): pF_i is added to
+    Flow force (chapter 3, eq. 3.13; scaled by flow_force: 1 the thesis's fit, default 0 the chapter-2 model,
+    values between give a continuous parameter for calibration): flow_force*pF_i is added to
     the main spool's balance (to the numerator of eqs. 2.7/2.11, as in eq. 3.13):
         pF = P(Q_lpm)*z1*Q/sqrt(dp),  dp = p_C,i - pt,  Q = the relief flow q_r,i >= 0 [m^3/s],
         z1 = 4.0847e5*1e5,  Q_lpm = 60000*Q, P(x) = c4 x^4 + c3 x^3 + c2 x^2 + c1 x with
@@ -194,7 +195,8 @@ class MotionControlValveVAA(Block):
         Param("p_s2", "Pa", 400e5, 0.0, 1e9, "preload of spring 2 over Ar (pcr2 of eq. 2.4; not in the thesis)"),
         Param("wn", "rad/s", 2.0 * math.pi * 12.0, 1e-3, 1e5, "natural angular frequency of the spool response (table 2.9)"),
         Param("zeta", "1", 1.0, 0.0, 10.0, "damping ratio of the spool response (table 2.9)"),
-        Param("flow_force", "1", 0, 0, 1, "1: add the steady flow force pF of eq. 3.13; 0: the chapter-2 model", integer=True),
+        Param("flow_force", "1", 0.0, -5.0, 5.0,
+              "scale of the steady flow force pF of eq. 3.13: 1 the thesis's fit, 0 the chapter-2 model"),
         Param("q_ff_max", "m^3/s", 100.0 / LPM, 1e-6, 1.0, "flow beyond which the pF polynomial's argument is held (its fit range)"),
         Param("V_t", "m^3", 1e-5, 1e-9, 1.0, "oil volume of the internal node pt"),
         Param("dN", "Pa", 1e5, 0.0, 1e8, "width over which the contact switch (sign of N) is rounded (regularisation)"),
@@ -245,12 +247,12 @@ class MotionControlValveVAA(Block):
         # check valves 2: pt -> V1 and pt -> V2 (cross-line relief)
         q_cv2_1 = check_valve_flow(pt - V1, A_cv2, p_cv2_crack, p_cv2_open, A_leak, Cd, rho, dp_t)
         q_cv2_2 = check_valve_flow(pt - V2, A_cv2, p_cv2_crack, p_cv2_open, A_leak, Cd, rho, dp_t)
-        # steady flow force (eq. 3.13), switchable
+        # steady flow force (eq. 3.13), scaled by flow_force (0: off, 1: the thesis's fit)
         pF1 = 0.0
         pF2 = 0.0
-        if flow_force > 0.5:
-            pF1 = flow_force_pressure(q_r1, C1 - pt, p_crack, q_ff_max, dp_t)
-            pF2 = flow_force_pressure(q_r2, C2 - pt, p_crack, q_ff_max, dp_t)
+        if flow_force != 0.0:
+            pF1 = flow_force * flow_force_pressure(q_r1, C1 - pt, p_crack, q_ff_max, dp_t)
+            pF2 = flow_force * flow_force_pressure(q_r2, C2 - pt, p_crack, q_ff_max, dp_t)
         # static equilibria: line 1 piloted by p2 = V2 (eqs. 2.12/2.13), line 2 by p1 = V1 (eqs. 2.7/2.11)
         u1_eq = smooth_unit(vaa_opening_raw(C1, V2, pt, alpha, p_crack, p_s2, kp1, kp2, pF1, dN), u_w)
         u2_eq = smooth_unit(vaa_opening_raw(C2, V1, pt, alpha, p_crack, p_s2, kp1, kp2, pF2, dN), u_w)

@@ -3,10 +3,9 @@
 from numba import njit
 
 from blocks.block import Block, Param, State, fluid_params, hydraulic, signal_in, signal_out
-from blocks.library.hydraulic.flow import turbulent_flow
 from blocks.library.signal.linear import clamp, lowpass2_acceleration
 from blocks.registry import register
-from vphs_blocks.servo_valve_4wrle import spool_edge_areas
+from vphs_blocks.servo_valve_4wrle import bleed_problem, edge_flows, spool_edge_areas
 
 
 @njit(cache=True)
@@ -46,7 +45,8 @@ class PVG32(Block):
     p_P - p_X (compensator fully open), nor goes negative (the load-holding check: no flow back into P).
     The P port delivers what the meter-in edges take: q_P = -(q_PA + q_PB). The law is continuous (piecewise
     linear in the pressures, with kinks), and its pressure derivatives are bounded: 0 in the compensated
-    range, dp_c/dp_ls in the LS range; the square root at zero drop is regularised by dp_t.
+    range, dp_c/dp_ls in the LS range, 1 where the supply limits; the square root at zero drop is
+    regularised by dp_t.
     Return edges are plain orifices: q_AT, q_BT = Cd*A*sqrt(2/rho)*(p - p_T)/((p - p_T)^2 + dp_t^2)^(1/4).
     Delivered to the nets: q_P = -(q_PA + q_PB), q_T = q_AT + q_BT, q_A = q_PA - q_AT, q_B = q_PB - q_BT.
 
@@ -93,9 +93,7 @@ class PVG32(Block):
     def check_values(cls, values):
         if values["x_db"] >= values["x_max"]:
             return f"dead band x_db = {values['x_db']:g} m must be below the stroke x_max = {values['x_max']:g} m"
-        if values["A_n"] > values["A_max"]:
-            return f"A_n = {values['A_n']:g} m^2 exceeds A_max = {values['A_max']:g} m^2"
-        return None
+        return bleed_problem(values)
 
     @staticmethod
     def outputs(x):
@@ -105,9 +103,8 @@ class PVG32(Block):
     def derivatives(P, T, A, B, u, x, dx, p_LS_A, p_LS_B, A_max, A_n, x_max, x_db, x_ramp, wn, zeta, dp_c,
                     dp_ls, Cd, dp_t, rho):
         a_pa, a_pb, a_at, a_bt = spool_edge_areas(x / x_max, x_db / x_max, x_ramp / x_max, A_max, A_n)
-        q_pa = turbulent_flow(compensated_drop(P, A, p_LS_A, dp_c, dp_ls), a_pa, Cd, rho, dp_t)
-        q_pb = turbulent_flow(compensated_drop(P, B, p_LS_B, dp_c, dp_ls), a_pb, Cd, rho, dp_t)
-        q_at = turbulent_flow(A - T, a_at, Cd, rho, dp_t)
-        q_bt = turbulent_flow(B - T, a_bt, Cd, rho, dp_t)
+        dp_pa = compensated_drop(P, A, p_LS_A, dp_c, dp_ls)
+        dp_pb = compensated_drop(P, B, p_LS_B, dp_c, dp_ls)
+        q_P, q_T, q_A, q_B = edge_flows(dp_pa, dp_pb, A - T, B - T, a_pa, a_pb, a_at, a_bt, Cd, rho, dp_t)
         ddx = lowpass2_acceleration(x_max * clamp(u, -1.0, 1.0), x, dx, wn, zeta)
-        return -(q_pa + q_pb), q_at + q_bt, q_pa - q_at, q_pb - q_bt, dx, ddx
+        return q_P, q_T, q_A, q_B, dx, ddx

@@ -32,6 +32,25 @@ def spool_edge_areas(s, s_db, s_ramp, A_max, A_n):
     return 0.0, meter_in, meter_out, bleed
 
 
+@njit(cache=True)
+def edge_flows(dp_pa, dp_pb, dp_at, dp_bt, a_pa, a_pb, a_at, a_bt, Cd, rho, dp_t):
+    """What the four edges deliver to the nets (q_P, q_T, q_A, q_B) [m^3/s], each edge the turbulent law
+    q_XY = turbulent_flow(dp_XY, A_XY) for the drop dp_XY it sees: q_P = -(q_PA + q_PB),
+    q_T = q_AT + q_BT, q_A = q_PA - q_AT, q_B = q_PB - q_BT (they sum to 0: a valve stores no oil)."""
+    q_pa = turbulent_flow(dp_pa, a_pa, Cd, rho, dp_t)
+    q_pb = turbulent_flow(dp_pb, a_pb, Cd, rho, dp_t)
+    q_at = turbulent_flow(dp_at, a_at, Cd, rho, dp_t)
+    q_bt = turbulent_flow(dp_bt, a_bt, Cd, rho, dp_t)
+    return -(q_pa + q_pb), q_at + q_bt, q_pa - q_at, q_pb - q_bt
+
+
+def bleed_problem(values) -> str | None:
+    """Build-time check shared with the PVG: None if the bleed A_n fits in the edge area A_max."""
+    if values["A_n"] > values["A_max"]:
+        return f"A_n = {values['A_n']:g} m^2 exceeds A_max = {values['A_max']:g} m^2"
+    return None
+
+
 @register("servo_4wrle")
 class Servo4WRLE(Block):
     """4WRLE servo valve (4/3, W-centre bleed A/B->T, dead band): 2nd-order spool, four turbulent edges.
@@ -94,9 +113,7 @@ class Servo4WRLE(Block):
 
     @classmethod
     def check_values(cls, values):
-        if values["A_n"] > values["A_max"]:
-            return f"A_n = {values['A_n']:g} m^2 exceeds A_max = {values['A_max']:g} m^2"
-        return None
+        return bleed_problem(values)
 
     @staticmethod
     def outputs(x):
@@ -105,9 +122,6 @@ class Servo4WRLE(Block):
     @staticmethod
     def derivatives(P, T, A, B, u, x, dx, A_max, A_n, x_db, x_ramp, wn, zeta, Cd, dp_t, rho):
         a_pa, a_pb, a_at, a_bt = spool_edge_areas(x, x_db, x_ramp, A_max, A_n)
-        q_pa = turbulent_flow(P - A, a_pa, Cd, rho, dp_t)
-        q_pb = turbulent_flow(P - B, a_pb, Cd, rho, dp_t)
-        q_at = turbulent_flow(A - T, a_at, Cd, rho, dp_t)
-        q_bt = turbulent_flow(B - T, a_bt, Cd, rho, dp_t)
+        q_P, q_T, q_A, q_B = edge_flows(P - A, P - B, A - T, B - T, a_pa, a_pb, a_at, a_bt, Cd, rho, dp_t)
         ddx = lowpass2_acceleration(clamp(u, -1.0, 1.0), x, dx, wn, zeta)
-        return -(q_pa + q_pb), q_at + q_bt, q_pa - q_at, q_pb - q_bt, dx, ddx
+        return q_P, q_T, q_A, q_B, dx, ddx

@@ -7,7 +7,7 @@ A netlist describes a circuit as its drawing sheet does::
     parameters: {m_load: "7500 kg", J: "0.085 + m_load*0.075**2/39**2"}
     components:
       valve: {type: valve_4_3, params: {A_max: "125 mm^2"}, initial: {}}
-      mcv:   {type: mcv_vaa, preset: VF250, params: {p_crack: "230 bar"}}   # a data-sheet preset, overridden
+      mcv:   {type: mcv_vaa, preset: VF250, params: {alpha: 2.8, p_crack: "230 bar"}}   # a data-sheet preset, overridden
     subsystems:
       left: {netlist: drive_line.yaml, parameters: {m_load: "15 t"}}
     nets:

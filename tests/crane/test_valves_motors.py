@@ -532,3 +532,10 @@ def test_motor_circuit_spin_up_and_friction():
         assert np.max(np.abs(r[f"w_{key}"][late] - exact[late])) < 1e-4 * w_ss, key
         # a friction of the wrong sign would end at (2 - eta_hm)/eta_hm = 1.22 times the speed
         assert r[f"w_{key}"][-1] == pytest.approx(w_ss * (1 - math.exp(-r.t[-1] * b / J)), rel=1e-4)
+
+
+def test_check_values_refuse_inconsistent_geometry():
+    assert Servo4WRLE.check_values(W) is None and PVG32.check_values(G) is None
+    assert "A_n" in Servo4WRLE.check_values(dict(W, A_n=2 * W["A_max"]))
+    assert "A_n" in PVG32.check_values(dict(G, A_n=2 * G["A_max"]))
+    assert "dead band" in PVG32.check_values(dict(G, x_db=G["x_max"]))

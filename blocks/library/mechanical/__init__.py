@@ -12,6 +12,7 @@ from blocks.library.mechanical import (  # noqa: F401
     rot_friction,
     speed_sensor,
     speed_source,
+    stribeck_friction,
     torque_source,
     trans_damper,
     trans_friction,

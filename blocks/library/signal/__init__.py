@@ -10,6 +10,7 @@ from blocks.library.signal import (  # noqa: F401
     lookup_1d,
     lookup_2d,
     lowpass2,
+    pade_delay,
     pid,
     product,
     profile,
