@@ -70,7 +70,9 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Net", "initial"): "The across variable's start value: pressure [Pa] of a hydraulic net, speed [rad/s] "
                         "or [m/s] of a mechanical one (default 0).",
     ("Output", "of"): "What to log: a net name (its pressure or speed; for a signal net its driving output), "
-                      "`<component>.<port>` or `<component>.<state>` (scalar states).",
+                      "`<component>.<port>`, `<component>.<state>` (scalar states), or "
+                      "`<component>.<port>.flow` / `.torque` / `.force`: what the block delivers to the net at "
+                      "that port (positive into the net, the engine's sign convention).",
     ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit).",
     ("Simulation", "t_start"): "Start time [s].",
     ("Simulation", "t_end"): "End time [s] (`--t-end` overrides it).",

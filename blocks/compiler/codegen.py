@@ -19,7 +19,7 @@ import inspect
 from dataclasses import dataclass
 from pathlib import Path
 
-from blocks.block import ACROSS, PortKind
+from blocks.block import ACROSS, THROUGH, PortKind
 from blocks.compiler.structure import Structure, bulk_modulus_name
 
 
@@ -230,8 +230,12 @@ def observe(t, x, th, y):
 
     # ---- logged signals --------------------------------------------------------------------------------
     def resolve_output(self, ref: str) -> tuple[str, str]:
-        """'A' (a net), 'sensor.y' (a port) or 'valve.x' (a state) -> (expression, SI unit)."""
+        """'A' (a net), 'sensor.y' (a port), 'valve.x' (a state) or 'motor.a.flow' (what a block delivers
+        to the net at a physical port: flow, torque or force, positive into the net) -> (expression, SI unit)."""
         st = self.st
+        through = self._resolve_through(ref)
+        if through is not None:
+            return through
         if ref in st.circuit.nets:
             net = st.circuit.nets[ref]
             if net.kind is PortKind.SIGNAL:
@@ -258,6 +262,31 @@ def observe(t, x, th, y):
                 return self.out_var(comp, name), port.unit
             return self.signal_value(comp, name), port.unit
         return self.across(st.port_net[(comp, name)]), ACROSS[port.kind][1]
+
+
+    def _resolve_through(self, ref: str):
+        parts = ref.rsplit(".", 2)
+        if len(parts) != 3 or parts[2] not in THROUGH_SUFFIX:
+            return None
+        comp, port_name, what = parts
+        if comp not in self.st.circuit.components:
+            return None
+        cls = self.st.circuit.components[comp].cls
+        ports = [p.name for p in cls.through_ports()]
+        if port_name not in ports:
+            raise KeyError(f"'{ref}': {cls.type_name} delivers no {what} at '{port_name}' "
+                           f"(ports with a through value: {', '.join(ports) or 'none'})")
+        port = cls.port(port_name)
+        if THROUGH_SUFFIX[what] is not port.kind:
+            raise KeyError(f"'{ref}': port {port_name} is {port.kind.value}; ask for its "
+                           f"{next(k for k, v in THROUGH_SUFFIX.items() if v is port.kind)}")
+        if len(cls.scalar_states()) < len(cls.states):
+            raise KeyError(f"'{ref}': through values of blocks with array states cannot be logged")
+        index = cls.derivative_names().index(f"{THROUGH[port.kind][0]}_{port_name}")
+        return f"{self.call(comp, 'derivatives')}[{index}]", THROUGH[port.kind][1]
+
+
+THROUGH_SUFFIX = {"flow": PortKind.HYDRAULIC, "torque": PortKind.ROTATIONAL, "force": PortKind.TRANSLATIONAL}
 
 
 def cls_state_scalar(cls, name: str) -> bool:

@@ -358,7 +358,7 @@ class _Builder:
         self._check_net_entries(merged)
         for comp_name, comp in self.components.items():
             for port in comp.cls.ports:
-                if (comp_name, port.name) not in owner and not port.optional:
+                if (comp_name, port.name) not in owner and not port.optional and port.direction != "out":
                     raise comp.source.error(comp.path, f"port {comp_name}.{port.name} ({port.kind.value}) is not connected")
         for flat in merged.values():
             if not flat.ports:
