@@ -6,6 +6,8 @@
     vphs graph NETLIST [-o circuit.png]
     vphs diff SIMULATED REFERENCE.csv [--x COL] [--y COL|SIM=REF ...] [-o table.csv] [--plot overlay.png]
     vphs docs [-o docs/netlist-reference.md]
+    vphs optimise JOB [--resume] [--scheduler ADDRESS] [--workers N]
+    vphs sweep JOB [--resume] [--scheduler ADDRESS] [--workers N]
 
 Exit codes: 0 success, 1 the simulation failed (the solver's message says when and where), 2 bad input
 (a netlist, a data file, an argument). Errors are one line, never a traceback.
@@ -66,6 +68,15 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter when SIMULATED is a netlist (repeatable)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or notes on stderr")
+
+    for name, what in (("optimise", "run a job's optimisation (the Complex method, Nelder-Mead, differential evolution)"),
+                       ("sweep", "evaluate a job's parameter sweep (grid or list, one or two parameters)")):
+        p = sub.add_parser(name, help=what)
+        p.add_argument("job", help="job file (YAML): netlist, parameters, cost, algorithm: / sweep:")
+        p.add_argument("--resume", action="store_true", help="continue the job from its evaluation log")
+        p.add_argument("--scheduler", metavar="ADDRESS", help="evaluate on a Dask cluster (tcp://host:8786)")
+        p.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: every core)")
+        p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
 
     p = sub.add_parser("docs", help="write the netlist reference generated from the block registry")
     p.add_argument("-o", "--output", default="docs/netlist-reference.md")
@@ -288,7 +299,34 @@ def cmd_docs(args) -> int:
     return 0
 
 
+def cmd_optimise(args, sweep: bool = False) -> int:
+    """vphs optimise|sweep JOB: evaluations logged as they finish; a report at the end (blocks.optimise)."""
+    from blocks.optimise.job import load_job
+    from blocks.optimise.runner import Interrupted, run_optimise, run_sweep
+
+    if args.workers is not None and args.workers < 1:
+        raise ArgumentError("vphs: --workers must be at least 1")
+    job = load_job(args.job)
+    try:
+        summary = (run_sweep if sweep else run_optimise)(job, resume=args.resume, workers=args.workers,
+                                                         scheduler=args.scheduler, quiet=args.quiet)
+    except Interrupted as stop:
+        s = stop.summary
+        print(f"vphs: interrupted; {s.total} evaluations are in {s.folder}; continue with: "
+              f"vphs {args.command} {args.job} --resume", file=sys.stderr)
+        return 130
+    if summary.best is None:
+        print(f"vphs: every evaluation failed; see {summary.report}", file=sys.stderr)
+        return EXIT_FAILED
+    if not args.quiet:
+        best = ", ".join(f"{k} = {v:.6g}" for k, v in summary.best["parameters"].items())
+        print(f"vphs: {summary.reason}: {summary.total} evaluations ({summary.failed} failed) in {summary.seconds:.1f} s; "
+              f"best cost {summary.best['cost']:.6g} at {best}; report {summary.report}", file=sys.stderr)
+    return 0
+
+
 COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "diff": cmd_diff,
+            "optimise": cmd_optimise, "sweep": lambda args: cmd_optimise(args, sweep=True),
             "docs": cmd_docs}
 
 

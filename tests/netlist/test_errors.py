@@ -81,7 +81,7 @@ CASES_TABLE = [
     # "100 bar + 5 m" for a pressure is accepted as 100005 Pa.
     Case("wrong_unit_in_expression", [at('p: "100 bar + 5 m"')], ["unit", "m"]),
     Case("out_of_bounds", [at("Cd: 1.5")], ["Cd", "1.5", "upper bound"]),
-    Case("port_unconnected", [at("sense:")], ["sense.w", "not connected"]),
+    Case("port_unconnected", [at("mix:")], ["mix.u1", "not connected"]),
     Case("port_connected_twice", [at("inlet.a", nth=1)], ["inlet.a", "connected twice", "'P'", "'T'"]),
     Case("port_listed_twice", [at("amp.u", nth=1)], ["amp.u", "twice"]),
     Case("mixed_port_kinds", [at("outlet.b")], ["different kinds", "rotational", "hydraulic", "outlet.b", "shaft"]),

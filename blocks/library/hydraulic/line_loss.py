@@ -1,24 +1,26 @@
-"""Series line loss (pipe, hose, fitting, flow meter) as a pressure-drop law solved for the flow."""
+"""Series line loss (pipe, hose, fitting, flow meter): a pressure-drop law with the flow as a state."""
 
-import math
-
-from blocks.block import Block, Param, hydraulic
+from blocks.block import Block, Param, State, hydraulic
 from blocks.registry import register
 
 
 @register("line_loss")
 class LineLoss(Block):
-    """Series line loss: dp = (R_0 + R)*q + k*q*|q| from a to b, solved for the flow q.
+    """Series line loss a -> b: dp = (R_0 + R)*q + k*q*|q| at rest; the flow q is a state with a tiny inertance L.
 
-    dp  = p_a - p_b   [Pa],  R_s = R_0 + R   [Pa*s/m^3]
-    q   = 2*dp / (R_s + sqrt(R_s^2 + 4*k*|dp|))   [m^3/s]
+    dp   = p_a - p_b   [Pa]
+    L*dq/dt = dp - (R_0 + R)*q - k*q*|q|                 [q in m^3/s]
+    at rest (dq/dt = 0):  dp = (R_0 + R)*q + k*q*|q|
 
-    q is the root of k*q*|q| + R_s*q = dp with the sign of dp (the stable form of the quadratic root:
-    for dp > 0, q = (-R_s + sqrt(R_s^2 + 4*k*dp))/(2*k); for k = 0, q = dp/R_s). k [Pa*s^2/m^6] is the
-    turbulent (pipe-friction, fitting) coefficient, R the laminar one. The floor R_0 > 0 is a declared
-    regularisation: it keeps the flow finite when k = R = 0, so that the element with k = R = 0 is the
-    "no loss" model up to a pressure drop R_0*q (1e4 Pa*s/m^3 by default: 0.17 mbar at 100 l/min), which
-    lets calibration insert it with a zero parameter. q is C1 in dp (dq/ddp = 1/R_s at dp = 0).
+    k [Pa*s^2/m^6] is the turbulent (pipe-friction, fitting) coefficient, R [Pa*s/m^3] the laminar one.
+    A series element cannot be algebraic between two pressure nodes (it would have to invert dp(q), whose
+    conductance is infinite at k = R = 0), so the flow is a state behind the declared inertance L
+    [kg/m^4 = Pa*s^2/m^3] (a regularisation, far below a real line's rho*l/A ~ 1e6...1e7 kg/m^4: the mode it
+    forms with the adjacent oil volume lies far above anything resolved and is damped by the stiff solver)
+    and the declared floor R_0 (dp = R_0*q when k = R = 0: 1e4 Pa*s/m^3 gives 0.17 mbar at 100 l/min).
+    So the element with k = R = 0 is the lossless connection, up to R_0 and L, which lets calibration
+    insert it with a zero parameter; at rest it is exact. The right-hand side is smooth in q (C1 through
+    q = 0), so the solver sees no square-root singularity.
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.
     """
@@ -27,13 +29,11 @@ class LineLoss(Block):
     params = (
         Param("k", "Pa*s^2/m^6", 0.0, 0.0, 1e20, "turbulent loss coefficient: dp = k*q*|q|"),
         Param("R", "Pa*s/m^3", 0.0, 0.0, 1e16, "laminar loss coefficient: dp = R*q"),
-        Param("R_0", "Pa*s/m^3", 1e4, 1e-6, 1e16, "floor of the laminar resistance (regularisation): dp = R_0*q when k = R = 0",
-              positive=True),
+        Param("R_0", "Pa*s/m^3", 1e4, 0.0, 1e16, "floor of the laminar resistance (regularisation): dp = R_0*q when k = R = 0"),
+        Param("L", "kg/m^4", 0.01, 1e-9, 1e12, "inertance that makes the flow a state (regularisation)", positive=True),
     )
+    states = (State("q", "m^3/s", 0.0, 1e-4, "flow from a to b"),)
 
     @staticmethod
-    def derivatives(a, b, k, R, R_0):
-        dp = a - b
-        rs = R_0 + R
-        q = 2.0 * dp / (rs + math.sqrt(rs * rs + 4.0 * k * abs(dp)))
-        return -q, q
+    def derivatives(a, b, q, k, R, R_0, L):
+        return -q, q, (a - b - (R_0 + R) * q - k * q * abs(q)) / L

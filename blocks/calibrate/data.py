@@ -1,0 +1,137 @@
+"""Measured data mapped onto an experiment's channels: steady operating points or one time series, in SI.
+
+Steady points (no ``t`` column): one row per operating point, the group label of each row (the grouping
+column, or "all"), the measured inputs (imposed through a parameter per point) and outputs. A time series
+(a ``t`` column): strictly increasing times, every channel sampled at them; held-out folds are contiguous
+blocks of samples.
+
+Noise: given in the experiment file, or estimated here from the data itself:
+
+- ``repeats`` (steady): the pooled standard deviation of the channel over points repeated at the same
+  imposed inputs in the same group, sigma^2 = sum_groups sum_k (y_k - mean)^2 / sum_groups (n - 1);
+- ``diff`` (time series): from the second differences d_k = y_{k+1} - 2 y_k + y_{k-1}, which remove a
+  signal that is smooth on the sample scale: var(d) = 6 sigma^2 for white noise, estimated robustly as
+  sigma = 1.4826 * median|d - median(d)| / sqrt(6) (steps in the signal are outliers of d, not noise).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from blocks.calibrate.experiment import Experiment
+from blocks.datafile import DataFileError, Table, read_table
+
+
+@dataclass
+class Dataset:
+    kind: str  # "steady" or "time"
+    n: int
+    t: np.ndarray | None
+    labels: list[str]
+    measured: dict[str, np.ndarray]
+    sigma: dict[str, float]
+    table: Table
+    noise_notes: dict[str, str]
+
+    @property
+    def groups(self) -> dict[str, np.ndarray]:
+        found: dict[str, list[int]] = {}
+        for k, label in enumerate(self.labels):
+            found.setdefault(label, []).append(k)
+        return {label: np.array(rows, dtype=int) for label, rows in found.items()}
+
+
+def load_data(exp: Experiment) -> Dataset:
+    group = exp.spec.group
+    table = read_table(exp.data, group=group) if group else read_table(exp.data)
+    if group is None and table.group is not None:
+        raise table.error(f"has no unit; name it as the experiment's 'group:' or give it a unit", table.group)
+    kind = "time" if "t" in table.columns else "steady"
+    if kind == "time" and group is not None:
+        raise table.error("a time series with a grouping column is not supported: one experiment file per "
+                          "series", group)
+    if kind == "steady" and any(c.role == "input" and c.signal is not None for c in exp.channels):
+        ch = next(c for c in exp.channels if c.role == "input" and c.signal is not None)
+        raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: steady data (no t column in {exp.spec.data}) "
+                                             f"impose inputs through 'parameter', not 'signal'")
+    if kind == "time" and any(c.role == "input" and c.parameter is not None for c in exp.channels):
+        ch = next(c for c in exp.channels if c.role == "input" and c.parameter is not None)
+        raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: a time series imposes its inputs through a "
+                                             f"logged 'signal' with 'latent' levels, not a 'parameter'")
+    n = len(next(iter(table.columns.values()))) if table.columns else 0
+    measured = {}
+    for ch in exp.channels:
+        if ch.name not in table.columns:
+            raise DataFileError(table.file, f"no column '{ch.name}' (the experiment's {ch.role}s.{ch.name}); "
+                                            f"columns: {', '.join(table.columns)}", table.header_line)
+        values = table.columns[ch.name]
+        bad = np.nonzero(~np.isfinite(values))[0]
+        if bad.size:
+            raise table.error("empty cell in a compared or imposed column", ch.name, int(bad[0]))
+        if ch.si_unit not in ("", "1", "SI"):
+            from blocks.units import parse_unit
+
+            if not parse_unit(table.units[ch.name]).same_dimension(parse_unit(ch.si_unit)):
+                raise table.error(f"unit '{table.units[ch.name]}' does not fit the signal's {ch.si_unit}", ch.name)
+        ch.unit = table.units[ch.name]
+        measured[ch.name] = values
+    t = None
+    if kind == "time":
+        t = table.columns["t"]
+        steps = np.diff(t)
+        bad = np.nonzero(~(steps > 0))[0]
+        if bad.size:
+            k = int(bad[0]) + 1
+            what = "repeats" if steps[bad[0]] == 0 else "goes back from"
+            raise table.error(f"time {what} the previous row's (times must increase strictly)", "t", k)
+    labels = list(table.labels) if table.labels is not None else ["all"] * n
+    if exp.groups:
+        missing = sorted(set(labels) - set(exp.groups), key=str)
+        if missing and group is not None:
+            raise exp.error(("groups",), f"groups: no parameter values for group(s) {', '.join(missing)} of "
+                                         f"column '{group}' in {exp.spec.data}")
+    sigma, notes = {}, {}
+    for ch in exp.channels:
+        if ch.noise_method == "given":
+            sigma[ch.name] = float(ch.noise)
+            notes[ch.name] = "given"
+        elif ch.noise_method == "repeats":
+            if kind != "steady":
+                raise exp.error((f"{ch.role}s", ch.name, "noise"), "noise: repeats needs steady points; use diff")
+            sigma[ch.name], notes[ch.name] = _from_repeats(exp, measured, labels, ch.name)
+        else:
+            if kind != "time":
+                raise exp.error((f"{ch.role}s", ch.name, "noise"), "noise: diff needs a time series; use repeats")
+            sigma[ch.name] = _from_differences(measured[ch.name])
+            notes[ch.name] = "estimated from second differences"
+            if not sigma[ch.name] > 0:
+                raise exp.error((f"{ch.role}s", ch.name, "noise"), f"noise: the second differences of "
+                                                                   f"'{ch.name}' are all zero; give the noise")
+    return Dataset(kind, n, t, labels, measured, sigma, table, notes)
+
+
+def _from_repeats(exp: Experiment, measured: dict, labels: list[str], name: str) -> tuple[float, str]:
+    keys: dict[tuple, list[int]] = {}
+    inputs = [c.name for c in exp.inputs]
+    for k, label in enumerate(labels):
+        key = (label,) + tuple(round(float(measured[i][k]), 12) for i in inputs)
+        keys.setdefault(key, []).append(k)
+    ss, dof = 0.0, 0
+    for rows in keys.values():
+        if len(rows) > 1:
+            y = measured[name][rows]
+            ss += float(np.sum((y - y.mean()) ** 2))
+            dof += len(rows) - 1
+    if dof == 0:
+        raise exp.error(("outputs", name, "noise"), f"noise: no repeated points (same group and imposed inputs) "
+                                                     f"to estimate the noise of '{name}' from; give it")
+    return float(np.sqrt(ss / dof)), f"estimated from repeated points ({dof} degrees of freedom)"
+
+
+def _from_differences(y: np.ndarray) -> float:
+    d = y[2:] - 2.0 * y[1:-1] + y[:-2]
+    if d.size < 5:
+        return 0.0
+    return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(6.0))

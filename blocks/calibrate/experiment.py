@@ -1,0 +1,401 @@
+"""The experiment file: which netlist, which data, what is imposed, what is compared, what is free.
+
+An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the file)::
+
+    description: steady points of the relief rig, three crack settings
+    netlist: circuits/relief_rig.yaml
+    data: data/relief_rig.csv            # one CSV: steady points (no t column) or a time series (t column)
+    group: setting                       # the grouping column (optional)
+    inputs:                              # measured columns imposed on the circuit
+      Q: {parameter: Q_in, noise: "0.5 l/min"}          # steady: the parameter each point sets
+      # time series: cmd: {signal: cmd, latent: [u1, u2, u3], noise: 0.005}
+    outputs:                             # measured columns compared with logged signals
+      p1: {signal: p1, noise: "0.2 bar"}
+      p3: {signal: p3, noise: repeats}   # noise given, or estimated: repeats (steady) / diff (time series)
+    overrides: {R_meter: "5e8 Pa*s/m^3"} # parameter values for every point
+    groups:                              # per group: parameter values (e.g. each crack setting) ...
+      "1": {p_set: "30 bar"}
+    group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group
+    free:                                # the declared free parameters, values in any unit of their dimension
+      k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}
+    drift: [k_s]                         # steady data: refitted per group, should stay constant
+    heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}
+    steady: {t_end: "0.15 s", settle_tol: 0.05} # settling runs (steady data)
+    trace: {rounds: 3, top: 3, exclude: [extra_volume]}
+    solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
+
+Errors name the file, line and column (the style of :mod:`blocks.netlist.flatten`). Inputs of steady data
+are imposed through a netlist parameter per point; inputs of a time series are logged signals of the
+netlist (e.g. a command profile) whose levels are the netlist parameters listed under ``latent``: the true
+input is latent in both cases (errors-in-variables, :mod:`blocks.calibrate.model`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Literal, Union
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from blocks.errors import NetlistError
+from blocks.netlist.yaml_source import Located, read_yaml
+from blocks.units import UnitError, nearest, parse_unit, quantity, split_quantity
+
+Value = Union[float, int, str]
+
+
+class _Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", str_strip_whitespace=True)
+
+
+class ChannelSpec(_Strict):
+    signal: str | None = None
+    parameter: str | None = None
+    latent: list[str] = Field(default_factory=list)
+    noise: Value
+
+
+class FreeSpec(_Strict):
+    initial: Value | None = None
+    lower: Value | None = None
+    upper: Value | None = None
+    step: Value | None = None
+
+
+class HeldOutSpec(_Strict):
+    scheme: Literal["leave_one_group_out", "kfold"] = "leave_one_group_out"
+    k: int = Field(5, ge=2, le=50)
+    seed: int = 0
+
+
+class SteadySpec(_Strict):
+    t_end: Value | None = None
+    settle_tol: float = Field(0.05, gt=0)
+
+
+class TraceSpec(_Strict):
+    rounds: int = Field(3, ge=1, le=3)
+    top: int = Field(3, ge=1, le=20)
+    only: list[str] | None = None
+    exclude: list[str] = Field(default_factory=list)
+
+
+class SolverSpec(_Strict):
+    rtol: float | None = Field(None, gt=0, lt=1)
+    atol: float | None = Field(None, gt=0, lt=1)
+
+
+class GroupTableSpec(_Strict):
+    file: str
+    columns: dict[str, str]
+
+
+class ExperimentSpec(_Strict):
+    description: str = ""
+    netlist: str
+    data: str
+    group: str | None = None
+    inputs: dict[str, ChannelSpec] = Field(default_factory=dict)
+    outputs: dict[str, ChannelSpec]
+    overrides: dict[str, Value] = Field(default_factory=dict)
+    groups: dict[str, dict[str, Value]] = Field(default_factory=dict)
+    group_table: GroupTableSpec | None = None
+    free: dict[str, FreeSpec] = Field(default_factory=dict)
+    drift: list[str] = Field(default_factory=list)
+    heldout: HeldOutSpec = Field(default_factory=HeldOutSpec)
+    steady: SteadySpec = Field(default_factory=SteadySpec)
+    trace: TraceSpec = Field(default_factory=TraceSpec)
+    solver: SolverSpec = Field(default_factory=SolverSpec)
+    corrections: dict[str, dict[str, Value]] = Field(default_factory=dict)
+    """Sensor corrections found by an earlier calibration: {channel: {offset: value, gain: value}}."""
+
+
+@dataclass
+class Channel:
+    """A measured column: an imposed input or a compared output, its noise level in SI."""
+
+    name: str
+    role: str  # "input" or "output"
+    signal: str | None
+    parameter: str | None
+    latent: list[str]
+    noise: float | None  # SI; None: estimated from the data (``noise_method``)
+    noise_method: str  # "given", "repeats" or "diff"
+    unit: str = ""  # the data column's unit (for reports)
+    si_unit: str = ""
+
+
+@dataclass
+class Free:
+    """A fitted parameter: qualified name, start, bounds and finite-difference step (SI)."""
+
+    name: str
+    initial: float
+    lower: float
+    upper: float
+    step: float
+    unit: str  # display unit
+    kind: str = "declared"  # declared, latent, candidate, correction
+
+
+@dataclass
+class Experiment:
+    file: str
+    spec: ExperimentSpec
+    located: Located
+    netlist: Path
+    data: Path
+    channels: list[Channel]
+    overrides: dict[str, float]
+    groups: dict[str, dict[str, float]]
+    free: list[Free]
+    corrections: dict[str, dict[str, float]] = field(default_factory=dict)
+
+    @property
+    def inputs(self) -> list[Channel]:
+        return [c for c in self.channels if c.role == "input"]
+
+    @property
+    def outputs(self) -> list[Channel]:
+        return [c for c in self.channels if c.role == "output"]
+
+    def error(self, path: tuple, message: str) -> NetlistError:
+        return self.located.error(path, message)
+
+    def resolve(self, relative: str) -> Path:
+        return (Path(self.file).parent / relative).resolve()
+
+
+def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
+    """Parse and validate the shape of an experiment file (errors with line and column)."""
+    located = read_yaml(file)
+    if not isinstance(located.data, dict):
+        raise located.error((), "an experiment file is a mapping with netlist:, data:, outputs:, free:, ...")
+    try:
+        return ExperimentSpec.model_validate(located.data), located
+    except ValidationError as exc:
+        first = exc.errors()[0]
+        path = _data_path(located.data, first["loc"])
+        where = ".".join(str(p) for p in path) or "experiment"
+        message = first["msg"]
+        if first["type"] == "extra_forbidden":
+            message = f"unknown key '{path[-1]}'" if path else "unknown key"
+            model = _model_at(path[:-1])
+            if model is not None:
+                near = nearest(str(path[-1]), model.model_fields)
+                message += f" (allowed: {', '.join(near or sorted(model.model_fields))})"
+        elif first["type"] == "missing":
+            message = f"missing '{first['loc'][-1]}'"
+        raise located.error(path, f"{where}: {message}") from None
+
+
+def _data_path(data, loc) -> tuple:
+    path, node = [], data
+    for item in loc:
+        if isinstance(node, dict) and item in node:
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, list) and isinstance(item, int) and 0 <= item < len(node):
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, dict) and isinstance(item, str) and item[:1].islower() and item not in (
+                "str", "float", "int", "list", "union", "function-after"):
+            path.append(item)
+            break
+    return tuple(path)
+
+
+def _model_at(path: tuple):
+    top = {(): ExperimentSpec, ("heldout",): HeldOutSpec, ("steady",): SteadySpec, ("trace",): TraceSpec,
+           ("solver",): SolverSpec, ("group_table",): GroupTableSpec}
+    if path in top:
+        return top[path]
+    if len(path) == 2 and path[0] in ("inputs", "outputs"):
+        return ChannelSpec
+    if len(path) == 2 and path[0] == "free":
+        return FreeSpec
+    return None
+
+
+def load_experiment(file: str | Path, circuit=None) -> Experiment:
+    """Read an experiment file and check it against its netlist (``circuit``: an already built one).
+
+    Values are converted to SI with each parameter's unit; names of parameters and signals are checked
+    against the netlist (an unknown one is an error with the nearest names)."""
+    from blocks.circuit import Circuit
+
+    file = str(file)
+    spec, located = load_spec(file)
+    base = Path(file).parent
+    netlist = (base / spec.netlist).resolve()
+    if not netlist.is_file():
+        raise located.error(("netlist",), f"netlist: file not found: {spec.netlist}")
+    data = (base / spec.data).resolve()
+    if not data.is_file():
+        raise located.error(("data",), f"data: file not found: {spec.data}")
+    if circuit is None:
+        circuit = Circuit.from_file(netlist, compile=False)
+    entries = circuit.flat.parameters.entries
+    signals = {o.name: o for o in circuit.outputs}
+
+    def param_name(name: str, path: tuple) -> str:
+        if name not in entries:
+            hint = nearest(name, entries)
+            raise located.error(path, f"unknown parameter '{name}' in {spec.netlist}"
+                                + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+        return name
+
+    def si(name: str, raw, path: tuple) -> float:
+        try:
+            return value_si(raw, entries[name])
+        except UnitError as exc:
+            raise located.error(path, f"{name}: {exc}") from None
+
+    channels: list[Channel] = []
+    for role, table in (("input", spec.inputs), ("output", spec.outputs)):
+        for name, ch in table.items():
+            path = (f"{role}s", name)
+            if role == "output" and ch.signal is None:
+                raise located.error(path, f"outputs.{name}: missing 'signal' (the logged signal it is compared with)")
+            if role == "input" and (ch.signal is None) == (ch.parameter is None):
+                raise located.error(path, f"inputs.{name}: give 'parameter' (steady points: the parameter each "
+                                          f"point sets) or 'signal' with 'latent' (a time series)")
+            if ch.signal is not None and ch.signal not in signals:
+                hint = nearest(ch.signal, signals)
+                raise located.error(path + ("signal",), f"{role}s.{name}: no logged signal '{ch.signal}' in "
+                                    f"{spec.netlist} (logged: {', '.join(signals)})"
+                                    + (f"; did you mean {', '.join(hint)}?" if hint else ""))
+            if ch.parameter is not None:
+                param_name(ch.parameter, path + ("parameter",))
+            for k, lat in enumerate(ch.latent):
+                param_name(lat, path + ("latent", k))
+            if role == "output" and (ch.parameter or ch.latent):
+                raise located.error(path, f"outputs.{name}: an output takes 'signal' and 'noise' only")
+            si_unit = signals[ch.signal].unit if ch.signal is not None else (entries[ch.parameter].unit or "")
+            method, noise = "given", None
+            if isinstance(ch.noise, str) and ch.noise.strip() in ("repeats", "diff"):
+                method = ch.noise.strip()
+            else:
+                try:
+                    noise = quantity(ch.noise, si_unit) if si_unit not in ("", "1", "SI") else _free_si(ch.noise)
+                except UnitError as exc:
+                    raise located.error(path + ("noise",), f"{role}s.{name}.noise: {exc}") from None
+                if not noise > 0:
+                    raise located.error(path + ("noise",), f"{role}s.{name}.noise must be positive")
+            channels.append(Channel(name, role, ch.signal, ch.parameter, list(ch.latent), noise, method,
+                                    si_unit=si_unit))
+    if not any(c.role == "output" for c in channels):
+        raise located.error(("outputs",), "outputs: at least one compared column is needed")
+
+    overrides = {param_name(n, ("overrides", n)): si(n, v, ("overrides", n)) for n, v in spec.overrides.items()}
+    groups: dict[str, dict[str, float]] = {}
+    for label, values in spec.groups.items():
+        groups[str(label)] = {param_name(n, ("groups", label, n)): si(n, v, ("groups", label, n))
+                              for n, v in values.items()}
+    if spec.group_table is not None:
+        _read_group_table(spec, located, base, groups, param_name)
+
+    free: list[Free] = []
+    for name, fs in spec.free.items():
+        path = ("free", name)
+        param_name(name, path)
+        entry = entries[name]
+        values = circuit.flat.parameters.evaluate({})
+        start = values[name] if fs.initial is None else si(name, fs.initial, path + ("initial",))
+        if isinstance(start, tuple):
+            raise located.error(path, f"free.{name}: an array parameter cannot be free")
+        lower = -np.inf if fs.lower is None else si(name, fs.lower, path + ("lower",))
+        upper = np.inf if fs.upper is None else si(name, fs.upper, path + ("upper",))
+        if entry.bounds is not None:
+            if entry.bounds.lower is not None:
+                lower = max(lower, entry.bounds.lower)
+            if entry.bounds.upper is not None:
+                upper = min(upper, entry.bounds.upper)
+        if not lower <= start <= upper:
+            raise located.error(path, f"free.{name}: the start value {start:g} is outside [{lower:g}, {upper:g}] (SI)")
+        step = si(name, fs.step, path + ("step",)) if fs.step is not None else default_step(start, lower, upper)
+        free.append(Free(name, float(start), float(lower), float(upper), float(step), display_unit(entry)))
+    for k, name in enumerate(spec.drift):
+        if name not in spec.free:
+            raise located.error(("drift", k), f"drift: '{name}' is not a free parameter")
+    corrections = {}
+    for ch_name, corr in spec.corrections.items():
+        channel = next((c for c in channels if c.name == ch_name), None)
+        if channel is None:
+            raise located.error(("corrections", ch_name), f"corrections: no channel '{ch_name}'")
+        unknown = set(corr) - {"offset", "gain"}
+        if unknown:
+            raise located.error(("corrections", ch_name), f"corrections.{ch_name}: only offset and gain")
+        try:
+            corrections[ch_name] = {
+                "offset": quantity(corr.get("offset", 0.0), channel.si_unit) if channel.si_unit not in ("", "1", "SI")
+                else _free_si(corr.get("offset", 0.0)),
+                "gain": float(quantity(corr.get("gain", 0.0), "1"))}
+        except UnitError as exc:
+            raise located.error(("corrections", ch_name), f"corrections.{ch_name}: {exc}") from None
+    return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections)
+
+
+def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> None:
+    from blocks.datafile import DataFileError, read_table
+
+    gt = spec.group_table
+    if spec.group is None:
+        raise located.error(("group_table",), "group_table: needs 'group' (the grouping column)")
+    path = (base / gt.file).resolve()
+    try:
+        table = read_table(path, group=spec.group)
+    except DataFileError:
+        raise
+    for column, target in gt.columns.items():
+        param_name(target, ("group_table", "columns", column))
+        if column not in table.columns:
+            raise located.error(("group_table", "columns", column),
+                                f"group_table: no numeric column '{column}' in {gt.file} "
+                                f"(columns: {', '.join(table.columns)})")
+    for k, label in enumerate(table.labels):
+        for column, target in gt.columns.items():
+            groups.setdefault(label, {})[target] = float(table.columns[column][k])
+
+
+def _free_si(raw) -> float:
+    if isinstance(raw, (int, float)) and not isinstance(raw, bool):
+        return float(raw)
+    number, unit = split_quantity(str(raw))
+    return number * (parse_unit(unit).factor if unit else 1.0)
+
+
+def value_si(raw, entry) -> float:
+    """A value as written in an experiment file, in SI for the parameter ``entry`` (its declared unit, or
+    for a netlist parameter the dimension it was written with)."""
+    if entry.unit not in (None, "SI"):
+        return quantity(raw, entry.unit)
+    value = _free_si(raw)
+    if isinstance(raw, str) and entry.dims is not None:
+        _, unit = split_quantity(raw)
+        if unit and not parse_unit(unit).same_dimension(entry.dims):
+            raise UnitError(f"wrong unit '{unit}': {entry.name} is written in {entry.dims.describe_dims()}")
+    return value
+
+
+def display_unit(entry) -> str:
+    """The unit a parameter is shown in: the unit it was written with in the netlist, else its SI unit."""
+    if isinstance(entry.raw, str):
+        try:
+            _, unit = split_quantity(entry.raw)
+            if unit:
+                return unit
+        except UnitError:
+            pass
+    return entry.unit if entry.unit not in (None, "SI") else ""
+
+
+def default_step(start: float, lower: float, upper: float) -> float:
+    """Absolute finite-difference step: 1e-3 of the value, or of the bounded range if the value is 0."""
+    if start != 0.0:
+        return 1e-3 * abs(start)
+    if np.isfinite(lower) and np.isfinite(upper) and upper > lower:
+        return 1e-3 * (upper - lower)
+    return 1e-6

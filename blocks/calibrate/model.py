@@ -1,0 +1,329 @@
+"""Predictions of every measured channel by simulation, normalised residuals and their finite-difference
+Jacobian, for a parameter vector x. Calibration only swaps parameters (``Circuit.simulate(overrides)``)
+and reads the logged signals: it never reaches into the solver or the blocks.
+
+The parameter vector
+--------------------
+x = [globals..., latent inputs of the steady points]. Globals are the declared free parameters, accepted
+or screened candidate parameters, sensor corrections (``offset:<channel>``, ``gain:<channel>``) and, for a
+time series, the latent levels of the imposed input (netlist parameters of its command profile). Steady
+points carry one latent value per imposed input and point: the true input, of which the measured column is
+a noisy reading (errors-in-variables).
+
+Residuals (normalised by each channel's noise sigma):
+    output channel c, point or sample k:  r = (g_c*y_c(x, k) + o_c - y_meas) / sigma_c,  g_c = 1 + gain:c
+    steady input channel i, point k:       r = (g_i*u_true(k, i) + o_i - u_meas) / sigma_i
+    time-series input channel i, sample k: r = (g_i*u_sim(x, t_k) + o_i - u_meas) / sigma_i
+so chi^2 = r.r is the errors-in-variables likelihood (the true inputs are fitted with the parameters, and the
+inputs' noise counts as much as the outputs'). Sensor corrections are applied here, to the logged signal,
+not in the netlist.
+
+Steady points: each point is a settling run (``simulation.t_end`` of the netlist or ``steady.t_end``) with
+the imposed inputs and group values as parameters; the outputs are read at the end. A point counts as
+settled when every compared signal moved less than ``settle_tol`` * sigma over the last 20 % of the run;
+unsettled points are counted and reported (never silently used as if steady).
+Time series: one run; logged signals are interpolated linearly onto the data's times, which must lie inside
+the simulated span.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from blocks.calibrate.data import Dataset
+from blocks.calibrate.experiment import Experiment, Free
+from blocks.errors import SimulationError, VphsError
+from blocks.netlist.parameters import ParameterError
+
+FAILED_RESIDUAL = 1e3
+"""Normalised residual given to every row of a point whose simulation failed (or was refused)."""
+
+
+@dataclass
+class Layout:
+    """Which entry of x is what."""
+
+    globals: list[Free]
+    n_points: int = 0
+    inputs: list[str] = field(default_factory=list)  # steady input channels with latent values
+
+    @property
+    def n_globals(self) -> int:
+        return len(self.globals)
+
+    @property
+    def size(self) -> int:
+        return self.n_globals + self.n_points * len(self.inputs)
+
+    def latent_index(self, point: int, k_input: int) -> int:
+        return self.n_globals + point * len(self.inputs) + k_input
+
+    def index(self, name: str) -> int:
+        for k, f in enumerate(self.globals):
+            if f.name == name:
+                return k
+        raise KeyError(name)
+
+    def names(self) -> list[str]:
+        out = [f.name for f in self.globals]
+        for k in range(self.n_points):
+            out += [f"{i}[{k}]" for i in self.inputs]
+        return out
+
+
+class Model:
+    """Evaluates the residual vector of an experiment for parameter vectors x (see the module docstring)."""
+
+    def __init__(self, circuit, exp: Experiment, data: Dataset, globals_: list[Free], fixed: dict | None = None):
+        self.circuit, self.exp, self.data = circuit, exp, data
+        self.fixed = dict(exp.overrides)
+        self.fixed.update(fixed or {})
+        steady_inputs = [c.name for c in exp.inputs if c.parameter is not None]
+        self.layout = Layout(list(globals_), data.n if data.kind == "steady" else 0, steady_inputs)
+        self.names = circuit.parameter_names
+        settings = circuit.settings
+        changes = {}
+        if exp.spec.solver.rtol is not None:
+            changes["rtol"] = exp.spec.solver.rtol
+        if exp.spec.solver.atol is not None:
+            changes["atol"] = exp.spec.solver.atol
+        if data.kind == "steady":
+            if exp.spec.steady.t_end is not None:
+                from blocks.units import quantity
+
+                changes["t_end"] = quantity(exp.spec.steady.t_end, "s")
+            t_end = changes.get("t_end", settings.t_end)
+            changes["dt_out"] = (t_end - settings.t_start) / 100.0
+        self.settings = settings.with_(**changes)
+        if data.kind == "time":
+            if data.t[0] < self.settings.t_start - 1e-12 or data.t[-1] > self.settings.t_end + 1e-12:
+                raise VphsError(f"{exp.file}: the data's times {data.t[0]:g} ... {data.t[-1]:g} s lie outside the "
+                                f"simulated span {self.settings.t_start:g} ... {self.settings.t_end:g} s of "
+                                f"{exp.spec.netlist}")
+        # residual rows: channel-major, one row per point (or sample) per channel
+        self.channels = list(exp.channels)
+        n = data.n
+        self.row_channel = np.repeat(np.arange(len(self.channels)), n)
+        self.row_point = np.tile(np.arange(n), len(self.channels))
+        self.n_rows = n * len(self.channels)
+        self.sigma = np.array([data.sigma[c.name] for c in self.channels])
+        self.measured = np.concatenate([data.measured[c.name] for c in self.channels])
+        self.row_sigma = np.repeat(self.sigma, n)
+        self.signal_index = {o.name: k for k, o in enumerate(circuit.outputs)}
+        self._cache: dict = {}
+        self.unsettled: set[int] = set()
+        self.failures: list[str] = []
+        self.simulations = 0
+
+    # ---- the parameter vector -------------------------------------------------------------------------
+    def initial(self) -> np.ndarray:
+        x = np.empty(self.layout.size)
+        for k, f in enumerate(self.layout.globals):
+            x[k] = f.initial
+        for k in range(self.layout.n_points):
+            for i, name in enumerate(self.layout.inputs):
+                x[self.layout.latent_index(k, i)] = self.data.measured[name][k]
+        return x
+
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        lo = np.full(self.layout.size, -np.inf)
+        hi = np.full(self.layout.size, np.inf)
+        for k, f in enumerate(self.layout.globals):
+            lo[k], hi[k] = f.lower, f.upper
+        return lo, hi
+
+    def steps(self) -> np.ndarray:
+        h = np.empty(self.layout.size)
+        for k, f in enumerate(self.layout.globals):
+            h[k] = f.step
+        for k in range(self.layout.n_points):
+            for i, name in enumerate(self.layout.inputs):
+                h[self.layout.latent_index(k, i)] = 0.1 * self.data.sigma[name]
+        return h
+
+    def rows_of_points(self, points) -> np.ndarray:
+        """Boolean mask of the residual rows of the given points (or samples)."""
+        mask = np.zeros(self.n_rows, dtype=bool)
+        sel = np.zeros(self.data.n, dtype=bool)
+        sel[np.asarray(points, dtype=int)] = True
+        mask[sel[self.row_point]] = True
+        return mask
+
+    def output_rows(self) -> np.ndarray:
+        roles = np.array([c.role == "output" for c in self.channels])
+        return roles[self.row_channel]
+
+    # ---- overrides and simulation ---------------------------------------------------------------------
+    def _net_overrides(self, x: np.ndarray) -> dict:
+        over = dict(self.fixed)
+        for k, f in enumerate(self.layout.globals):
+            if f.kind != "correction":
+                over[f.name] = float(x[k])
+        return over
+
+    def _corrections(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        gain = np.ones(len(self.channels))
+        offset = np.zeros(len(self.channels))
+        index = {c.name: k for k, c in enumerate(self.channels)}
+        for ch, corr in self.exp.corrections.items():
+            gain[index[ch]] += corr.get("gain", 0.0)
+            offset[index[ch]] += corr.get("offset", 0.0)
+        for k, f in enumerate(self.layout.globals):
+            if f.kind == "correction":
+                what, ch = f.name.split(":", 1)
+                if what == "gain":
+                    gain[index[ch]] += x[k]
+                else:
+                    offset[index[ch]] += x[k]
+        return gain, offset
+
+    def _run(self, overrides: dict):
+        self.simulations += 1
+        return self.circuit.simulate(overrides, settings=self.settings)
+
+    def _steady_point(self, k: int, x: np.ndarray, base: dict) -> np.ndarray | None:
+        over = dict(base)
+        over.update(self.exp.groups.get(self.data.labels[k], {}))
+        for i, name in enumerate(self.layout.inputs):
+            param = next(c.parameter for c in self.channels if c.name == name)
+            over[param] = float(x[self.layout.latent_index(k, i)])
+        key = (k, tuple(sorted(over.items())))
+        if key in self._cache:
+            return self._cache[key]
+        try:
+            result = self._run(over)
+        except (SimulationError, ParameterError, VphsError) as exc:
+            self.failures.append(f"point {k + 1}: {exc}")
+            self._cache[key] = None
+            return None
+        values = result.values[-1, :].copy()
+        n = len(result.t)
+        back = int(0.8 * (n - 1))
+        settled = True
+        for c in self.channels:
+            if c.role == "output":
+                col = self.signal_index[c.signal]
+                if abs(result.values[-1, col] - result.values[back, col]) > self.exp.spec.steady.settle_tol * \
+                        self.data.sigma[c.name]:
+                    settled = False
+        if not settled:
+            self.unsettled.add(k)
+        else:
+            self.unsettled.discard(k)
+        self._cache[key] = values
+        if len(self._cache) > 200_000:
+            self._cache.clear()
+        return values
+
+    def signals(self, x: np.ndarray, points=None) -> np.ndarray:
+        """Every logged signal (columns, SI) at every point or data sample (rows); NaN where a run failed."""
+        base = self._net_overrides(x)
+        n_sig = len(self.circuit.outputs)
+        out = np.full((self.data.n, n_sig), np.nan)
+        if self.data.kind == "steady":
+            todo = range(self.data.n) if points is None else np.unique(np.asarray(points, dtype=int))
+            for k in todo:
+                values = self._steady_point(int(k), x, base)
+                if values is not None:
+                    out[k] = values
+            return out
+        key = ("time", tuple(sorted(base.items())))
+        if key in self._cache:
+            return self._cache[key]
+        try:
+            result = self._run(base)
+        except (SimulationError, ParameterError, VphsError) as exc:
+            self.failures.append(str(exc))
+            self._cache[key] = out
+            return out
+        for j in range(n_sig):
+            out[:, j] = np.interp(self.data.t, result.t, result.values[:, j])
+        self._cache[key] = out
+        if len(self._cache) > 2000:
+            self._cache.clear()
+        return out
+
+    def predictions(self, x: np.ndarray, points=None) -> np.ndarray:
+        """The predicted value of every residual row (SI, corrections applied); NaN where not computed."""
+        sig = self.signals(x, points)
+        gain, offset = self._corrections(x)
+        pred = np.full(self.n_rows, np.nan)
+        n = self.data.n
+        for c_idx, c in enumerate(self.channels):
+            rows = slice(c_idx * n, (c_idx + 1) * n)
+            if c.role == "input" and c.parameter is not None:
+                i = self.layout.inputs.index(c.name)
+                raw = np.array([x[self.layout.latent_index(k, i)] for k in range(n)])
+            else:
+                raw = sig[:, self.signal_index[c.signal]]
+            pred[rows] = gain[c_idx] * raw + offset[c_idx]
+        if points is not None and self.data.kind == "steady":
+            keep = self.rows_of_points(points)
+            pred[~keep] = np.nan
+        return pred
+
+    def residuals(self, x: np.ndarray, points=None) -> np.ndarray:
+        """Normalised residuals of every row; rows not computed (other points) are 0, failed runs large."""
+        pred = self.predictions(x, points)
+        r = (pred - self.measured) / self.row_sigma
+        computed = np.ones(self.n_rows, dtype=bool) if points is None or self.data.kind != "steady" \
+            else self.rows_of_points(points)
+        r[computed & ~np.isfinite(r)] = FAILED_RESIDUAL
+        r[~computed] = 0.0
+        return r
+
+    def jacobian(self, x: np.ndarray, cols, points=None, r0: np.ndarray | None = None) -> np.ndarray:
+        """Forward-difference Jacobian d r / d x[cols] with the absolute steps of :meth:`steps` (backward
+        where a bound is in the way). Latent inputs of different points are perturbed together: each point's
+        rows depend on its own latent values only, so one sweep gives all of their columns."""
+        cols = list(cols)
+        if r0 is None:
+            r0 = self.residuals(x, points)
+        h = self.steps()
+        lo, hi = self.bounds()
+        J = np.zeros((self.n_rows, len(cols)))
+        G = self.layout.n_globals
+        latent_sweeps: dict[int, list[tuple[int, int]]] = {}
+        for j, col in enumerate(cols):
+            if col < G:
+                step = h[col] if x[col] + h[col] <= hi[col] else -h[col]
+                xp = x.copy()
+                xp[col] += step
+                J[:, j] = (self.residuals(xp, points) - r0) / step
+            else:
+                point, k_input = divmod(col - G, len(self.layout.inputs))
+                latent_sweeps.setdefault(k_input, []).append((j, point))
+        for k_input, members in latent_sweeps.items():
+            xp = x.copy()
+            for _, point in members:
+                xp[self.layout.latent_index(point, k_input)] += h[self.layout.latent_index(point, k_input)]
+            rp = self.residuals(xp, points)
+            for j, point in members:
+                rows = self.row_point == point
+                step = h[self.layout.latent_index(point, k_input)]
+                J[rows, j] = (rp[rows] - r0[rows]) / step
+        return J
+
+    def with_globals(self, globals_: list[Free], fixed: dict | None = None, circuit=None) -> "Model":
+        """The same experiment with other global parameters (and fixed values, or another circuit)."""
+        merged = {k: v for k, v in self.fixed.items() if k not in self.exp.overrides}
+        merged.update(fixed or {})
+        return Model(circuit or self.circuit, self.exp, self.data, globals_, merged)
+
+    def extend(self, x: np.ndarray, other: "Model", values: dict | None = None) -> np.ndarray:
+        """x of this model carried over to ``other`` (same data): globals by name, latents as they are;
+        globals new in ``other`` take ``values`` or their initial value."""
+        values = values or {}
+        y = other.initial()
+        for k, f in enumerate(other.layout.globals):
+            if f.name in values:
+                y[k] = values[f.name]
+            else:
+                try:
+                    y[k] = x[self.layout.index(f.name)]
+                except KeyError:
+                    pass
+        y[other.layout.n_globals:] = x[self.layout.n_globals:]
+        return y

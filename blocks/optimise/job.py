@@ -1,0 +1,543 @@
+"""Optimisation and sweep jobs in YAML: the schema (pydantic), the loader and its one-line located errors.
+
+    name: controller                       # default: the file's stem
+    netlist: ../opt/drive_line.yaml        # relative to the job file
+    output: out/controller                 # relative to the working directory; default out/<name>
+    seed: 1
+    workers: 2                             # default: every core; --workers overrides
+    scheduler: tcp://10.0.0.5:8786         # optional Dask scheduler; --scheduler overrides
+    set: {V_line: "1 l"}                   # fixed overrides for every evaluation
+    parameters:                            # the free parameters: qualified names, bounds, log scaling
+      Kp: {min: 1, max: 30, log: true}
+      spool.wn: {min: "40 rad/s", max: "120 rad/s"}
+    cost:
+      combine: sum                         # over the load cases: sum | mean | worst
+      penalty: 1e9                         # the cost of a failed simulation
+      terms:
+        pos: {kind: ise, signal: x, reference: x_ref, unit: mm, weight: 50}
+        vib: {kind: hp_ise, signal: pA, wn: "100 rad/s", zeta: 0.7071, weight: 3e-8}
+        max_pos: {kind: max_abs, signal: x, reference: x_ref, unit: mm, weight: 0}    # reported only
+    load_cases:                            # parameter overrides; each case is simulated per design
+      empty: {m_load: "0 kg"}
+      full: {m_load: "15 t"}
+    algorithm: {method: complex, max_evaluations: 300, rfak: 0, gamma: 0}
+    sweep:                                 # for 'vphs sweep': one or two parameters
+      parameters: {Kp: [2, 4, 8], Kv: {min: 0.2, max: 0.6, points: 5}}
+      combine: grid                        # grid (every combination) | list (the i-th values together)
+
+Values are numbers in SI or "<number> <unit>" strings, checked against the parameter's unit and bounds.
+The methods work in normalised coordinates z in [0, 1] per free parameter:
+value = min + z*(max - min), or with ``log: true`` value = min * (max/min)**z; their tolerances
+(tol_x, xatol) are therefore fractions of each parameter's range (of its decades with log).
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Literal, Union
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from blocks.errors import NetlistError
+from blocks.netlist.yaml_source import Located, read_yaml
+from blocks.optimise.complex import ComplexSettings
+from blocks.optimise.costs import Term
+from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
+from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, split_quantity
+
+Value = Union[float, int, str]
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", str_strip_whitespace=True)
+
+
+class FreeParameter(Strict):
+    min: Value
+    max: Value
+    log: bool = False
+
+
+class TermSpec(Strict):
+    kind: Literal["ise", "max_abs", "hp_ise"]
+    signal: str
+    reference: Value | None = None
+    unit: str | None = None
+    weight: float = Field(1.0, ge=0, allow_inf_nan=False)
+    wn: Value | None = None
+    zeta: float = Field(0.7071067811865476, gt=0, allow_inf_nan=False)
+    t_from: Value | None = None
+    t_to: Value | None = None
+
+
+class CostSpec(Strict):
+    terms: dict[str, TermSpec] = Field(min_length=1)
+    combine: Literal["sum", "mean", "worst"] = "sum"
+    penalty: float = Field(1e9, gt=0, allow_inf_nan=False)
+
+
+class SweepRange(Strict):
+    min: Value
+    max: Value
+    points: int = Field(ge=2, le=100_000)
+    log: bool = False
+
+
+class SweepSpec(Strict):
+    parameters: dict[str, Union[list[Value], SweepRange]] = Field(min_length=1, max_length=2)
+    combine: Literal["grid", "list"] = "grid"
+
+
+class ComplexSpec(Strict):
+    method: Literal["complex"]
+    max_evaluations: int = Field(500, ge=1)
+    points: int | None = Field(None, ge=2)
+    alpha: float = Field(1.3, gt=0, allow_inf_nan=False)
+    n0: float = Field(4.0, gt=0, allow_inf_nan=False)
+    rfak: float = Field(0.0, ge=0, allow_inf_nan=False)
+    gamma: float = Field(0.0, ge=0, allow_inf_nan=False)
+    tol_x: float = Field(1e-4, ge=0)
+    tol_f: float = Field(1e-5, ge=0)
+    max_retractions: int = Field(30, ge=0)
+    candidates: Union[int, Literal["auto"]] = "auto"
+
+
+class NelderMeadSpec(Strict):
+    method: Literal["nelder_mead"]
+    max_evaluations: int = Field(500, ge=1)
+    xatol: float = Field(1e-4, gt=0)
+    fatol: float = Field(1e-6, ge=0)
+    start: Literal["random", "netlist"] = "random"
+    adaptive: bool = False
+
+
+class DESpec(Strict):
+    method: Literal["differential_evolution"]
+    max_evaluations: int = Field(1000, ge=1)
+    popsize: int = Field(15, ge=1)
+    tol: float = Field(0.01, ge=0)
+    atol: float = Field(0.0, ge=0)
+    mutation: Union[float, tuple[float, float]] = (0.5, 1.0)
+    recombination: float = Field(0.7, ge=0, le=1)
+    strategy: str = "best1bin"
+    polish: bool = False
+
+
+METHODS = {"complex": ComplexSpec, "nelder_mead": NelderMeadSpec, "differential_evolution": DESpec}
+
+
+class JobFile(Strict):
+    description: str = ""
+    name: str | None = None
+    netlist: str
+    output: str | None = None
+    seed: int = Field(0, ge=0)
+    workers: int | None = Field(None, ge=1)
+    scheduler: str | None = None
+    set: dict[str, Value] = Field(default_factory=dict)
+    parameters: dict[str, FreeParameter] = Field(default_factory=dict)
+    cost: CostSpec
+    load_cases: dict[str, dict[str, Value]] = Field(default_factory=dict)
+    algorithm: dict[str, object] | None = None
+    sweep: SweepSpec | None = None
+
+
+_MODELS = {(): JobFile, ("cost",): CostSpec, ("sweep",): SweepSpec}
+
+
+@dataclass
+class FreeParam:
+    name: str
+    lower: float
+    upper: float
+    log: bool
+    unit: str  # for reports ("" if the parameter is a bare number)
+
+
+@dataclass
+class Job:
+    """A loaded, checked job: every value in SI, every name resolved against the netlist."""
+
+    file: str
+    name: str
+    netlist: str  # absolute
+    output: Path
+    seed: int
+    workers: int | None
+    scheduler: str | None
+    fixed: dict[str, float]
+    free: list[FreeParam]
+    terms: list[Term]
+    cases: list[tuple[str, dict[str, float]]]
+    combine: str
+    penalty: float
+    method: str | None
+    settings: object | None
+    sweep_names: list[str] = field(default_factory=list)
+    sweep_points: list[dict[str, float]] = field(default_factory=list)
+    fingerprint: str = ""
+    start_values: dict[str, float] = field(default_factory=dict)  # the netlist's values of the free parameters
+    units: dict[str, str] = field(default_factory=dict)  # parameter name -> unit for reports
+    sweep_combine: str = "grid"
+    start: str = "random"  # nelder_mead: start at a seeded random point or at the netlist's values
+
+    @property
+    def lower(self) -> np.ndarray:
+        return np.zeros(len(self.free))
+
+    @property
+    def upper(self) -> np.ndarray:
+        return np.ones(len(self.free))
+
+    def values(self, z) -> dict[str, float]:
+        """Normalised coordinates -> SI values of the free parameters."""
+        out = {}
+        for p, zi in zip(self.free, z):
+            zi = float(min(max(zi, 0.0), 1.0))
+            out[p.name] = p.lower * (p.upper / p.lower) ** zi if p.log else p.lower + zi * (p.upper - p.lower)
+        return out
+
+    def coordinates(self, values: dict[str, float]) -> np.ndarray:
+        """SI values -> normalised coordinates (clipped into [0, 1])."""
+        z = []
+        for p in self.free:
+            v = values[p.name]
+            if p.log:
+                zi = math.log(v / p.lower) / math.log(p.upper / p.lower) if v > 0 else 0.0
+            else:
+                zi = (v - p.lower) / (p.upper - p.lower)
+            z.append(min(max(zi, 0.0), 1.0))
+        return np.array(z)
+
+    def spec(self):
+        from blocks.optimise.evaluate import EvalSpec
+
+        return EvalSpec(self.netlist, tuple(self.fixed.items()),
+                        tuple((name, tuple(values.items())) for name, values in self.cases),
+                        tuple(self.terms), self.combine, self.penalty)
+
+
+def load_job(file: str | Path) -> Job:
+    """Read and check a job file against its netlist; :class:`NetlistError` (file:line:col: message) if wrong."""
+    located = read_yaml(file)
+    model = _validate(located)
+    return _Resolver(located, model).job()
+
+
+def _validate(located: Located) -> JobFile:
+    if not isinstance(located.data, dict):
+        raise located.error((), "a job must be a mapping with netlist:, parameters:, cost:, algorithm: or sweep:")
+    try:
+        model = JobFile.model_validate(located.data)
+    except ValidationError as exc:
+        raise _located(located, exc, ()) from None
+    if model.algorithm is not None:
+        method = model.algorithm.get("method")
+        if method not in METHODS:
+            raise located.error(("algorithm", "method") if method is not None else ("algorithm",),
+                                f"algorithm.method: " + (f"unknown method '{method}'" if method is not None else "missing")
+                                + f" (methods: {', '.join(METHODS)})")
+        try:
+            METHODS[method].model_validate(model.algorithm)
+        except ValidationError as exc:
+            raise _located(located, exc, ("algorithm",), METHODS[method]) from None
+    return model
+
+
+def _located(located: Located, exc: ValidationError, prefix: tuple, model=None) -> NetlistError:
+    """The first pydantic error as 'file:line:col: where: what' (the style of the netlist loader)."""
+    first = exc.errors()[0]
+    path = prefix + _data_path(_get(located.data, prefix), first["loc"])
+    where = ".".join(str(p) for p in path) or "job"
+    message = first["msg"]
+    if first["type"] == "extra_forbidden":
+        parent = model if model is not None and len(path) == len(prefix) + 1 else _parent_model(path)
+        message = f"unknown key '{path[-1]}'"
+        if parent is not None:
+            near = nearest(str(path[-1]), parent.model_fields)
+            message += f" (allowed: {', '.join(near or sorted(parent.model_fields))})"
+    elif first["type"] == "missing":
+        message = f"missing '{first['loc'][-1]}'"
+    return located.error(path, f"{where}: {message}")
+
+
+def _get(data, path):
+    for key in path:
+        data = data[key]
+    return data
+
+
+def _data_path(data, loc) -> tuple:
+    """The part of a pydantic error location that indexes into the document (union tags dropped)."""
+    path, node = [], data
+    for item in loc:
+        if isinstance(node, dict) and item in node:
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, list) and isinstance(item, int) and 0 <= item < len(node):
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, dict) and isinstance(item, str) and item not in node and item in _ALL_FIELDS:
+            path.append(item)  # a key that should be there (missing) or is unknown
+            break
+    return tuple(path)
+
+
+def _parent_model(path: tuple):
+    if path[:-1] in _MODELS:
+        return _MODELS[path[:-1]]
+    if len(path) == 3 and path[0] == "parameters":
+        return FreeParameter
+    if len(path) == 4 and path[:2] == ("cost", "terms"):
+        return TermSpec
+    if len(path) == 4 and path[:2] == ("sweep", "parameters"):
+        return SweepRange
+    return None
+
+
+_ALL_FIELDS = {name for m in (JobFile, CostSpec, SweepSpec, SweepRange, TermSpec, FreeParameter, *METHODS.values())
+               for name in m.model_fields}
+
+
+class _Resolver:
+    """Names, units and bounds of a validated job, checked against its netlist."""
+
+    def __init__(self, located: Located, model: JobFile):
+        self.located, self.model = located, model
+        self.error = located.error
+        self.start = "random"
+
+    def job(self) -> Job:
+        from blocks.circuit import Circuit
+
+        m, here = self.model, Path(self.located.file).parent
+        netlist = (here / m.netlist).resolve()
+        if not netlist.is_file():
+            raise self.error(("netlist",), f"netlist: file not found: {netlist}")
+        self.circuit = Circuit.from_file(netlist, compile=False)
+        self.entries = self.circuit.flat.parameters.entries
+        name = m.name or Path(self.located.file).stem
+        fixed = {k: self.value(k, raw, ("set", k)) for k, raw in m.set.items()}
+        free = [self.free_param(k, p) for k, p in m.parameters.items()]
+        cases = [(case, {k: self.value(k, raw, ("load_cases", case, k)) for k, raw in values.items()})
+                 for case, values in m.load_cases.items()] or [("nominal", {})]
+        terms = [self.term(k, t) for k, t in m.cost.terms.items()]
+        method, settings = self.algorithm()
+        sweep_names, sweep_points = self.sweep()
+        varied = set(m.parameters) | set(sweep_names)
+        for case, values in m.load_cases.items():
+            for k in values:
+                if k in varied:
+                    raise self.error(("load_cases", case, k), f"load_cases.{case}.{k}: {k} is varied by the job; "
+                                     f"it cannot also be set by a load case")
+        for case, values in cases:  # every case must evaluate (expressions, cross-parameter checks)
+            try:
+                self.circuit.vectors({**fixed, **values})
+            except NetlistError as exc:
+                raise self.error(("load_cases", case) if m.load_cases else ("set",), f"{exc}") from None
+        start = self.circuit.vectors(fixed).values
+        job = Job(
+            file=self.located.file, name=name, netlist=str(netlist),
+            output=Path(m.output) if m.output else Path("out") / name,
+            seed=m.seed, workers=m.workers, scheduler=m.scheduler, fixed=fixed, free=free, terms=terms,
+            cases=cases, combine=m.cost.combine, penalty=m.cost.penalty, method=method, settings=settings,
+            sweep_names=sweep_names, sweep_points=sweep_points,
+            start_values={p.name: float(start[p.name]) for p in free},
+            units={k: self.unit_of(k) for k in list(m.parameters) + sweep_names}, start=self.start,
+            sweep_combine=m.sweep.combine if m.sweep else "grid",
+        )
+        job.fingerprint = self.fingerprint(netlist)
+        return job
+
+    # ---- values ---------------------------------------------------------------------------------------
+    def entry(self, name: str, path: tuple):
+        entry = self.entries.get(name)
+        if entry is None:
+            hint = nearest(name, self.entries)
+            raise self.error(path, f"'{name}' is not a parameter of {self.model.netlist}"
+                             + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+        if entry.elements is not None or isinstance(entry.constant, tuple):
+            raise self.error(path, f"'{name}' is an array parameter; only single values can be set or varied")
+        return entry
+
+    def unit_of(self, name: str) -> str:
+        entry = self.entries[name]
+        if entry.unit not in (None, GENERIC):
+            return entry.unit
+        return "" if entry.dims is None else entry.dims.describe_dims()
+
+    def value(self, name: str, raw, path: tuple) -> float:
+        """A job value for parameter ``name`` in SI, its unit and bounds checked."""
+        entry = self.entry(name, path[:-1] if path[-1] in ("min", "max") else path)
+        where = ".".join(str(p) for p in path)
+        try:
+            if entry.unit not in (None, GENERIC):
+                value = quantity(raw, entry.unit)
+            elif isinstance(raw, (int, float)) and not isinstance(raw, bool):
+                value = float(raw)
+            elif isinstance(raw, str):
+                number, unit_text = split_quantity(raw)
+                unit = parse_unit(unit_text)
+                if unit_text and entry.dims is not None and not unit.same_dimension(entry.dims):
+                    raise UnitError(f"wrong unit: '{raw}' is in {unit.describe_dims()}, {name} in "
+                                    f"{entry.dims.describe_dims()}")
+                value = number * unit.factor
+            else:
+                raise UnitError(f"expected a number or a '<number> <unit>' string, got {raw!r}")
+        except UnitError as exc:
+            raise self.error(path, f"{where}: {exc}") from None
+        if not math.isfinite(value):
+            raise self.error(path, f"{where}: {value} is not finite")
+        if entry.bounds is not None:
+            problem = entry.bounds.check(value)
+            if problem:
+                raise self.error(path, f"{where}: {problem} (the netlist's bounds)")
+        return value
+
+    def free_param(self, name: str, p: FreeParameter) -> FreeParam:
+        path = ("parameters", name)
+        if name in self.model.set:
+            raise self.error(path, f"parameters.{name}: also fixed in set:; a parameter is either free or fixed")
+        lower, upper = self.value(name, p.min, path + ("min",)), self.value(name, p.max, path + ("max",))
+        return FreeParam(name, *self.bounds(lower, upper, p.log, path), p.log, self.unit_of(name))
+
+    def bounds(self, lower: float, upper: float, log: bool, path: tuple) -> tuple[float, float]:
+        where = ".".join(str(p) for p in path)
+        if not upper > lower:
+            raise self.error(path + ("max",), f"{where}: max ({upper:g}) must be above min ({lower:g})")
+        if log and not lower > 0:
+            raise self.error(path + ("min",), f"{where}: log scaling needs min > 0, got {lower:g}")
+        return lower, upper
+
+    # ---- cost terms -----------------------------------------------------------------------------------
+    def term(self, name: str, t: TermSpec) -> Term:
+        path = ("cost", "terms", name)
+        where = f"cost.terms.{name}"
+        outputs = {o.name: o for o in self.circuit.outputs}
+        signal = outputs.get(t.signal)
+        if signal is None:
+            hint = nearest(t.signal, outputs)
+            raise self.error(path + ("signal",), f"{where}: '{t.signal}' is not a logged signal of the netlist "
+                             f"(logged: {', '.join(hint or outputs)})")
+        generic = signal.unit in ("1", "")
+        scale, unit = 1.0, (t.unit or signal.unit)
+        if t.unit is not None:
+            try:
+                parsed = parse_unit(t.unit)
+            except UnitError as exc:
+                raise self.error(path + ("unit",), f"{where}.unit: {exc}") from None
+            if not generic and not parsed.same_dimension(parse_unit(signal.unit)):
+                raise self.error(path + ("unit",), f"{where}.unit: '{t.unit}' does not fit signal {t.signal}, "
+                                 f"which is in {signal.unit}")
+            scale = parsed.factor
+        reference, offset = None, 0.0
+        if t.kind == "hp_ise":
+            if t.reference is not None:
+                raise self.error(path + ("reference",), f"{where}: hp_ise filters the signal itself; no reference")
+            if t.wn is None:
+                raise self.error(path, f"{where}: hp_ise needs wn, the high-pass corner (e.g. '100 rad/s')")
+        elif t.wn is not None:
+            raise self.error(path + ("wn",), f"{where}: wn belongs to hp_ise terms only")
+        if isinstance(t.reference, str) and t.reference in outputs:
+            ref = outputs[t.reference]
+            if not generic and ref.unit not in ("1", "") and not parse_unit(ref.unit).same_dimension(parse_unit(signal.unit)):
+                raise self.error(path + ("reference",), f"{where}: reference {t.reference} is in {ref.unit}, "
+                                 f"signal {t.signal} in {signal.unit}")
+            reference = t.reference
+        elif t.reference is not None:
+            try:
+                offset = quantity(t.reference, GENERIC if generic else signal.unit)
+            except UnitError as exc:
+                hint = nearest(str(t.reference), outputs)
+                raise self.error(path + ("reference",), f"{where}.reference: neither a logged signal"
+                                 + (f" (did you mean {', '.join(hint)}?)" if hint else "")
+                                 + f" nor a value: {exc}") from None
+        wn = self.seconds_or(path, "wn", t.wn, "rad/s") if t.wn is not None else 0.0
+        if t.wn is not None and not wn > 0:
+            raise self.error(path + ("wn",), f"{where}.wn must be positive")
+        t_from = self.seconds_or(path, "t_from", t.t_from, "s") if t.t_from is not None else None
+        t_to = self.seconds_or(path, "t_to", t.t_to, "s") if t.t_to is not None else None
+        return Term(name, t.kind, t.signal, t.weight, reference, offset, scale, unit, wn, t.zeta, t_from, t_to)
+
+    def seconds_or(self, path, key, raw, unit) -> float:
+        try:
+            return quantity(raw, unit)
+        except UnitError as exc:
+            raise self.error(path + (key,), f"{'.'.join(map(str, path))}.{key}: {exc}") from None
+
+    # ---- algorithm and sweep --------------------------------------------------------------------------
+    def algorithm(self):
+        m = self.model
+        if m.algorithm is None:
+            return None, None
+        spec = METHODS[m.algorithm["method"]].model_validate(m.algorithm)
+        if not m.parameters:
+            raise self.error(("parameters",) if "parameters" in self.located.data else (),
+                             "an optimisation needs free parameters (parameters: name: {min:, max:})")
+        n = len(m.parameters)
+        if isinstance(spec, ComplexSpec):
+            settings = ComplexSettings(spec.points, spec.alpha, spec.n0, spec.rfak, spec.gamma, spec.tol_x, spec.tol_f,
+                                       spec.max_evaluations, spec.max_retractions,
+                                       0 if spec.candidates == "auto" else spec.candidates)
+            k = spec.points if spec.points is not None else max(2 * n, 3)
+            if k < n + 1:
+                raise self.error(("algorithm", "points"), f"algorithm.points: the complex needs at least "
+                                 f"n + 1 = {n + 1} points for {n} free parameters")
+            if spec.max_evaluations < k:
+                raise self.error(("algorithm", "max_evaluations"), f"algorithm.max_evaluations: {spec.max_evaluations} "
+                                 f"is fewer than the {k} points of the initial complex")
+            if spec.candidates != "auto" and spec.candidates < 1:
+                raise self.error(("algorithm", "candidates"), "algorithm.candidates: at least 1 (or auto)")
+            return "complex", settings
+        if isinstance(spec, NelderMeadSpec):
+            self.start = spec.start
+            return "nelder_mead", NelderMeadSettings(spec.max_evaluations, spec.xatol, spec.fatol, None, spec.adaptive)
+        if spec.max_evaluations < spec.popsize * n:
+            raise self.error(("algorithm", "max_evaluations"), f"algorithm.max_evaluations: {spec.max_evaluations} "
+                             f"is fewer than one generation (popsize * n = {spec.popsize * n})")
+        return "differential_evolution", DESettings(spec.max_evaluations, spec.popsize, spec.tol, spec.atol,
+                                                    spec.mutation, spec.recombination, spec.strategy, spec.polish)
+
+    def sweep(self):
+        s = self.model.sweep
+        if s is None:
+            return [], []
+        columns = {}
+        for name, values in s.parameters.items():
+            path = ("sweep", "parameters", name)
+            if name in self.model.set:
+                raise self.error(path, f"sweep.parameters.{name}: also fixed in set:")
+            if isinstance(values, list):
+                if not values:
+                    raise self.error(path, f"sweep.parameters.{name}: an empty list")
+                columns[name] = [self.value(name, raw, path + (i,)) for i, raw in enumerate(values)]
+            else:
+                lower, upper = self.value(name, values.min, path + ("min",)), self.value(name, values.max, path + ("max",))
+                lower, upper = self.bounds(lower, upper, values.log, path)
+                grid = np.geomspace(lower, upper, values.points) if values.log else np.linspace(lower, upper, values.points)
+                columns[name] = [float(v) for v in grid]
+        names = list(columns)
+        if s.combine == "list":
+            lengths = {len(v) for v in columns.values()}
+            if len(lengths) > 1:
+                raise self.error(("sweep", "combine"), "sweep.combine: list pairs the i-th values of each parameter; "
+                                 f"give them equally many values (got {', '.join(str(len(v)) for v in columns.values())})")
+            points = [dict(zip(names, row)) for row in zip(*columns.values())]
+        else:
+            grids = np.meshgrid(*columns.values(), indexing="ij")
+            points = [dict(zip(names, (float(g.flat[i]) for g in grids))) for i in range(grids[0].size)]
+        if len(points) > 1_000_000:
+            raise self.error(("sweep",), f"sweep: {len(points)} points is too many")
+        return names, points
+
+    def fingerprint(self, netlist: Path) -> str:
+        """What the results depend on: the job (not where or how fast it runs) and the netlist's text."""
+        data = {k: v for k, v in self.located.data.items() if k not in ("output", "workers", "scheduler", "description")}
+        digest = hashlib.sha256(json.dumps(data, sort_keys=True, default=str).encode())
+        digest.update(netlist.read_bytes())
+        return digest.hexdigest()[:16]

@@ -1,0 +1,145 @@
+"""The append-only evaluation log of a job: one JSON line per evaluation, written as each one finishes.
+
+    <output>/evaluations.jsonl
+    {"type": "job", "fingerprint": "...", "job": "...", "command": "optimise", "method": "complex", ...}
+    {"type": "evaluation", "id": "000017-3f9a12c4", "index": 17, "x": [...], "parameters": {...},
+     "status": "ok", "cost": 123.4, "cases": {...}, "error": null, "seconds": 0.0052, "step": "reflection",
+     "iteration": 5, "n_rep": 0, "warnings": [], "pid": 4711}
+
+Each line is written whole, flushed and fsync'ed before the next evaluation is logged, so a Ctrl-C or a
+killed process loses at most the evaluations still running. A line cut short by a kill (no newline at
+the end of the file) is dropped when the log is reopened -- it was not finished -- and the file is
+truncated back to its last whole line before anything is appended.
+
+``index`` counts evaluations in the order the method asked for them (not the order they finished);
+``x`` are the coordinates the method works in (normalised, see :mod:`blocks.optimise.runner`) and
+``parameters`` the SI values simulated. ``id`` = index + a hash of x: on ``--resume`` the method is
+re-run from its seed and each point it asks for is answered from the log when the entry with that index
+holds exactly that x, and evaluated otherwise -- so finished evaluations are never repeated and the log
+ends up with every evaluation once.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+from pathlib import Path
+
+from blocks.errors import VphsError
+
+LOG_NAME = "evaluations.jsonl"
+
+
+class LogError(VphsError):
+    pass
+
+
+def point_id(index: int, x) -> str:
+    digest = hashlib.sha1(json.dumps([float(v) for v in x]).encode()).hexdigest()[:8]
+    return f"{index:06d}-{digest}"
+
+
+class EvaluationLog:
+    """Read, check and append to ``<folder>/evaluations.jsonl``.
+
+    ``EvaluationLog.existing(folder, fingerprint, resume)`` first: the header of a log that may be
+    continued (None if there is none), or a :class:`LogError` for one that may not; then
+    ``EvaluationLog(folder, header)`` opens it (loading its records) or starts it with ``header``."""
+
+    def __init__(self, folder: Path, header: dict):
+        self.path = Path(folder) / LOG_NAME
+        self.records: dict[int, dict] = {}
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        if self.path.exists() and self.path.stat().st_size > 0:
+            self.header = self._load()
+            self.handle = open(self.path, "a", encoding="utf-8")
+        else:
+            self.header = header
+            self.handle = open(self.path, "w", encoding="utf-8")
+            self._write(header)
+
+    @classmethod
+    def existing(cls, folder: Path, fingerprint: str, resume: bool) -> dict | None:
+        path = Path(folder) / LOG_NAME
+        if not (path.exists() and path.stat().st_size > 0):
+            return None
+        if path.is_dir():
+            raise LogError(f"{path}: a folder, not a log")
+        log = cls.__new__(cls)
+        log.path, log.records = path, {}
+        if not resume:
+            raise LogError(f"{path}: this job's output folder holds a log already ({log._count_lines()} lines); "
+                           f"continue it with --resume, or give another output folder (or delete this one)")
+        header = log._load()
+        if header.get("fingerprint") != fingerprint:
+            raise LogError(f"{path}: the log was written by a different job (the job file, its settings or the "
+                           f"netlist changed: fingerprint {header.get('fingerprint')} != {fingerprint}); it cannot "
+                           f"be resumed -- use another output folder")
+        return header
+
+    def _count_lines(self) -> int:
+        with open(self.path, "rb") as handle:
+            return sum(1 for _ in handle)
+
+    def _load(self) -> dict:
+        raw = self.path.read_bytes()
+        whole = raw[: raw.rfind(b"\n") + 1]
+        if len(whole) < len(raw):  # the last line was being written when the process died
+            with open(self.path, "r+b") as handle:
+                handle.truncate(len(whole))
+                handle.flush()
+                os.fsync(handle.fileno())
+        header = None
+        for number, line in enumerate(whole.decode("utf-8").splitlines(), 1):
+            if not line.strip():
+                continue
+            try:
+                record = json.loads(line)
+            except json.JSONDecodeError as exc:
+                raise LogError(f"{self.path}:{number}: not a JSON line ({exc.msg}); the log is damaged") from None
+            if record.get("type") == "job" and header is None:
+                header = record
+            elif record.get("type") == "evaluation":
+                self.records.setdefault(int(record["index"]), record)
+        if header is None:
+            raise LogError(f"{self.path}: no job header line; not an evaluation log of vphs")
+        return header
+
+    def _write(self, record: dict) -> None:
+        self.handle.write(json.dumps(record, allow_nan=False) + "\n")
+        self.handle.flush()
+        os.fsync(self.handle.fileno())
+
+    def finished(self, index: int, x) -> dict | None:
+        """The logged record of evaluation ``index`` if it was of exactly the point ``x``."""
+        record = self.records.get(index)
+        if record is None:
+            return None
+        if record.get("x") != [float(v) for v in x]:
+            raise LogError(f"{self.path}: evaluation {index} in the log is of another point than the resumed job "
+                           f"asks for; the log does not belong to this job's run -- use another output folder")
+        return record
+
+    def append(self, record: dict) -> None:
+        self._write(record)
+        self.records[int(record["index"])] = record
+
+    def close(self) -> None:
+        self.handle.close()
+
+
+def read_log(folder: Path) -> tuple[dict, list[dict]]:
+    """The header and the evaluation records (by index) of a finished or interrupted job's log."""
+    path = Path(folder) / LOG_NAME
+    header, records = {}, {}
+    for line in path.read_text(encoding="utf-8").splitlines():
+        try:
+            record = json.loads(line)
+        except json.JSONDecodeError:
+            continue
+        if record.get("type") == "job":
+            header = record
+        elif record.get("type") == "evaluation":
+            records.setdefault(int(record["index"]), record)
+    return header, [records[i] for i in sorted(records)]

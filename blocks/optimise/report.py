@@ -1,0 +1,313 @@
+"""The report of a job: markdown with the best parameters and the cost history, and its plots.
+
+Optimisation (``<output>/``): ``report.md``; ``convergence.png`` (every evaluation's cost and the best so
+far against the evaluation index); ``best_signals.png`` (the best design re-simulated: each cost term's
+signal against its reference, or the high-passed signal, per load case); ``best.json`` (the best
+parameters in SI and the cost terms); ``best_<case>.csv`` (the best run's logged signals).
+Sweep (``<output>/sweep/``): ``report.md`` with the table of every point, ``sweep.csv`` and ``sweep.png``
+(the cost and each term against the parameter; a map of the cost over a two-parameter grid).
+
+Every file is written atomically (a temporary file renamed into place), so a report is either the old
+one or the new one, never half of each.
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+
+from blocks.result import atomic_write_figure, atomic_write_text
+
+
+def _plt():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _fmt(v, digits: int = 6) -> str:
+    if v is None:
+        return "-"
+    if isinstance(v, float) and not math.isfinite(v):
+        return str(v)
+    return f"{v:.{digits}g}" if isinstance(v, (int, float)) else str(v)
+
+
+def _param(job, name: str, value: float) -> str:
+    unit = job.units.get(name, "")
+    return f"{_fmt(value)} {unit}".strip()
+
+
+# ---- optimisation -----------------------------------------------------------------------------------------
+def write_optimise_report(summary) -> Path:
+    job, folder = summary.job, Path(summary.folder)
+    records = sorted(summary.records, key=lambda r: r["index"])
+    best = summary.best
+    _convergence_plot(records, folder / "convergence.png", job.name)
+    signals_png = None
+    if best is not None:
+        results = _resimulate(job, best["parameters"])
+        signals_png = folder / "best_signals.png"
+        _signals_plot(job, results, signals_png, f"{job.name}: best design (evaluation {best['index']})")
+        for case, result in results.items():
+            if result is not None:
+                result.write_csv(folder / f"best_{case}.csv")
+        atomic_write_text(folder / "best.json", json.dumps(
+            {"job": job.file, "evaluation": best["index"], "cost": best["cost"], "parameters": best["parameters"],
+             "units": {k: job.units.get(k, "") for k in best["parameters"]}, "cases": best["cases"]}, indent=2) + "\n")
+    text = _optimise_markdown(summary, records, signals_png is not None)
+    path = folder / "report.md"
+    atomic_write_text(path, text)
+    return path
+
+
+def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
+    job, best = summary.job, summary.best
+    s = job.settings
+    settings = {k: v for k, v in s.__dict__.items() if v is not None} if s is not None else {}
+    if summary.candidates is not None:
+        settings["candidates"] = summary.candidates
+    ok = [r for r in records if r["status"] == "ok"]
+    lines = [f"# Optimisation: {job.name}", "",
+             f"- job: `{job.file}`; netlist: `{job.netlist}`",
+             f"- method: {job.method} ({', '.join(f'{k}={_fmt(v)}' for k, v in settings.items())}); seed {job.seed}",
+             f"- evaluations: {len(records)} ({summary.evaluated} in this run, {summary.replayed} from the log), "
+             f"{len(records) - len(ok)} failed; iterations: {summary.iterations}; stopped: {summary.reason}",
+             f"- run: {summary.executor} executor, {summary.workers} worker(s); {summary.seconds:.2f} s, "
+             f"{summary.rate:.1f} evaluations/s in this run",
+             f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
+             f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
+             ""]
+    if best is None:
+        lines += ["**No evaluation succeeded.** The errors:", ""]
+        lines += [f"- {e}" for e in _distinct_errors(records)] + [""]
+        return "\n".join(lines)
+    lines += [f"## Best design: evaluation {best['index']}, cost {_fmt(best['cost'])}", "",
+              "| parameter | best | min | max | scale | netlist value |", "|---|---|---|---|---|---|"]
+    for p in job.free:
+        lines.append(f"| {p.name} | {_param(job, p.name, best['parameters'][p.name])} | {_param(job, p.name, p.lower)} | "
+                     f"{_param(job, p.name, p.upper)} | {'log' if p.log else 'linear'} | "
+                     f"{_param(job, p.name, job.start_values.get(p.name, float('nan')))} |")
+    lines += ["", "| load case | " + " | ".join(f"{t.name} [{t.value_unit}]" for t in job.terms) + " | cost |",
+              "|---|" + "---|" * (len(job.terms) + 1)]
+    for case, values in best["cases"].items():
+        lines.append(f"| {case} | " + " | ".join(_fmt(values["terms"].get(t.name)) for t in job.terms)
+                     + f" | {_fmt(values['cost'])} |")
+    lines += ["", "Weights: " + ", ".join(f"{t.name} {_fmt(t.weight)}" for t in job.terms), ""]
+    if best.get("warnings"):
+        lines += ["Warnings of the best run: " + "; ".join(best["warnings"]), ""]
+    lines += ["## Cost history", "", "![convergence](convergence.png)", "",
+              "Each improvement of the best cost:", "",
+              "| evaluation | step | cost | " + " | ".join(p.name for p in job.free) + " |",
+              "|---|---|---|" + "---|" * len(job.free)]
+    running = math.inf
+    for r in records:
+        if r["status"] == "ok" and r["cost"] < running:
+            running = r["cost"]
+            lines.append(f"| {r['index']} | {r.get('step', '')} | {_fmt(r['cost'])} | "
+                         + " | ".join(_fmt(r["parameters"][p.name]) for p in job.free) + " |")
+    lines.append("")
+    if have_signals:
+        lines += ["## Best run", "", "![signals](best_signals.png)", ""]
+    failed = [r for r in records if r["status"] != "ok"]
+    if failed:
+        lines += [f"## Failed evaluations ({len(failed)})", ""] + [f"- {e}" for e in _distinct_errors(records)] + [""]
+    return "\n".join(lines)
+
+
+def _distinct_errors(records: list[dict], limit: int = 8) -> list[str]:
+    seen: dict[str, int] = {}
+    for r in records:
+        if r["status"] != "ok":
+            seen.setdefault(str(r.get("error")), r["index"])
+    return [f"evaluation {i}: {e}" for e, i in list(seen.items())[:limit]]
+
+
+def _convergence_plot(records: list[dict], path: Path, title: str) -> None:
+    plt = _plt()
+    fig, ax = plt.subplots(figsize=(8, 4.2))
+    idx = np.array([r["index"] for r in records])
+    cost = np.array([r["cost"] for r in records], float)
+    ok = np.array([r["status"] == "ok" for r in records])
+    if ok.any():
+        ax.plot(idx[ok], cost[ok], ".", ms=3, color="0.6", label="each evaluation")
+        best = np.minimum.accumulate(np.where(ok, cost, np.inf))
+        ax.step(idx[np.isfinite(best)], best[np.isfinite(best)], where="post", color="C0", label="best so far")
+        positive = cost[ok] > 0
+        if positive.all() and cost[ok].max() > 100 * cost[ok].min():
+            ax.set_yscale("log")
+    if (~ok).any():
+        top = cost[ok].max() if ok.any() else 1.0
+        ax.plot(idx[~ok], np.full((~ok).sum(), top), "x", color="C3", label="failed (penalty, drawn at the top)")
+    ax.set_xlabel("evaluation")
+    ax.set_ylabel("cost")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="best", fontsize="small")
+    ax.set_title(title)
+    fig.tight_layout()
+    atomic_write_figure(fig, path)
+    plt.close(fig)
+
+
+def _resimulate(job, parameters: dict) -> dict:
+    """The best design's runs, per load case (None for a case that fails now)."""
+    from blocks.errors import VphsError
+    from blocks.optimise.evaluate import case_overrides, circuit_for
+
+    spec = job.spec()
+    circuit = circuit_for(job.netlist)
+    out = {}
+    for case in spec.cases:
+        try:
+            out[case[0]] = circuit.simulate(case_overrides(spec, parameters, case))
+        except VphsError:
+            out[case[0]] = None
+    return out
+
+
+def _signals_plot(job, results: dict, path: Path, title: str) -> None:
+    from blocks.optimise.costs import term_signal
+
+    plt = _plt()
+    terms = job.terms
+    fig, axes = plt.subplots(len(terms), 1, sharex=True, figsize=(9, 2.0 + 2.0 * len(terms)), squeeze=False)
+    for ax, term in zip(axes[:, 0], terms):
+        for k, (case, result) in enumerate(results.items()):
+            if result is None:
+                continue
+            colour = f"C{k % 10}"
+            label = f" ({case})" if len(results) > 1 else ""
+            t = result.t
+            if term.kind == "hp_ise":
+                ax.plot(t, term_signal(term, t, result), color=colour, lw=0.8,
+                        label=f"{term.signal} high-passed{label}")
+            elif term.kind == "max_abs":
+                error = term_signal(term, t, result)
+                ref = term.reference or _fmt(term.offset / term.scale)
+                ax.plot(t, error, color=colour, lw=0.9, label=f"{term.signal} - {ref}{label}")
+                k_max = int(np.argmax(np.abs(error)))
+                ax.plot(t[k_max], error[k_max], "o", color=colour, label=f"max |error| {_fmt(abs(error[k_max]), 4)}")
+            else:
+                ax.plot(t, np.asarray(result[term.signal]) / term.scale, color=colour, label=f"{term.signal}{label}")
+                if term.reference is not None:
+                    ax.plot(t, np.asarray(result[term.reference]) / term.scale, "--", color=colour, lw=0.9,
+                            label=f"{term.reference}{label}")
+                elif term.offset != 0.0:
+                    ax.axhline(term.offset / term.scale, ls="--", color=colour, lw=0.9)
+        ax.set_ylabel(f"{term.name} [{term.unit or '1'}]")
+        ax.grid(True, alpha=0.3)
+        ax.legend(loc="best", fontsize="x-small")
+    axes[-1, 0].set_xlabel("t [s]")
+    fig.suptitle(title)
+    fig.tight_layout()
+    atomic_write_figure(fig, path)
+    plt.close(fig)
+
+
+# ---- sweep ------------------------------------------------------------------------------------------------
+def write_sweep_report(summary) -> Path:
+    job, folder = summary.job, Path(summary.folder)
+    records = sorted(summary.records, key=lambda r: r["index"])
+    names = job.sweep_names
+    cases = [c for c, _ in job.cases]
+    header = [f"{n} [{job.units.get(n, '')}]".replace(" []", "") for n in names]
+    header += [f"{c}.{t.name} [{t.value_unit}]" if len(cases) > 1 else f"{t.name} [{t.value_unit}]"
+               for c in cases for t in job.terms]
+    header += ["cost", "status", "error"]
+    rows = []
+    for r in records:
+        row = [r["parameters"][n] for n in names]
+        for c in cases:
+            terms = r["cases"].get(c, {}).get("terms", {})
+            row += [terms.get(t.name) for t in job.terms]
+        row += [r["cost"] if r["status"] == "ok" else None, r["status"], r.get("error") or ""]
+        rows.append(row)
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(header)
+    for row in rows:
+        writer.writerow(["" if v is None else (f"{v:.10g}" if isinstance(v, float) else v) for v in row])
+    atomic_write_text(folder / "sweep.csv", buffer.getvalue())
+    _sweep_plot(job, records, folder / "sweep.png")
+    ok = [r for r in records if r["status"] == "ok"]
+    lines = [f"# Sweep: {job.name}", "", f"- job: `{job.file}`; netlist: `{job.netlist}`",
+             f"- {len(records)} points over {', '.join(names)} ({job.sweep_combine}); "
+             f"{len(records) - len(ok)} failed; {summary.seconds:.2f} s, {summary.rate:.1f} evaluations/s "
+             f"({summary.executor}, {summary.workers} worker(s))",
+             f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, combined by "
+             f"{job.combine} over {', '.join(cases)}", ""]
+    if ok:
+        best = min(ok, key=lambda r: r["cost"])
+        lines += [f"Lowest cost {_fmt(best['cost'])} at " + ", ".join(_param(job, n, best["parameters"][n]) for n in names)
+                  + f" (evaluation {best['index']}).", ""]
+    lines += ["![sweep](sweep.png)", "", "| " + " | ".join(header[:-1]) + " |", "|" + "---|" * (len(header) - 1)]
+    for row in rows:
+        lines.append("| " + " | ".join(_fmt(v) for v in row[:-1]) + " |")
+    lines.append("")
+    failed = [r for r in records if r["status"] != "ok"]
+    if failed:
+        lines += [f"## Failed points ({len(failed)})", ""] + [f"- {e}" for e in _distinct_errors(records)] + [""]
+    path = folder / "report.md"
+    atomic_write_text(path, "\n".join(lines))
+    return path
+
+
+def _sweep_plot(job, records: list[dict], path: Path) -> None:
+    plt = _plt()
+    names = job.sweep_names
+    ok = [r for r in records if r["status"] == "ok"]
+    columns = [("cost", None)] + [(t.name, t) for t in job.terms]
+    cases = [c for c, _ in job.cases]
+    grid2 = len(names) == 2 and len(records) == len({r["parameters"][names[0]] for r in records}) * \
+        len({r["parameters"][names[1]] for r in records})
+    if grid2 and ok:
+        xs = sorted({r["parameters"][names[0]] for r in records})
+        ys = sorted({r["parameters"][names[1]] for r in records})
+        fig, axes = plt.subplots(1, len(columns), figsize=(4.2 * len(columns), 3.8), squeeze=False)
+        for ax, (label, term) in zip(axes[0], columns):
+            Z = np.full((len(ys), len(xs)), np.nan)
+            for r in ok:
+                i, j = ys.index(r["parameters"][names[1]]), xs.index(r["parameters"][names[0]])
+                Z[i, j] = r["cost"] if term is None else _combined_term(r, term.name, cases)
+            mesh = ax.pcolormesh(xs, ys, Z, shading="nearest")
+            fig.colorbar(mesh, ax=ax)
+            ax.set_xlabel(f"{names[0]} [{job.units.get(names[0], '')}]")
+            ax.set_ylabel(f"{names[1]} [{job.units.get(names[1], '')}]")
+            ax.set_title(label)
+    else:
+        fig, axes = plt.subplots(len(columns), 1, sharex=True, figsize=(8, 1.8 + 1.9 * len(columns)), squeeze=False)
+        x_name = names[0]
+        for ax, (label, term) in zip(axes[:, 0], columns):
+            if len(names) == 1:
+                x = [r["parameters"][x_name] for r in ok]
+            else:
+                x = [r["index"] for r in ok]
+            if term is None:
+                ax.plot(x, [r["cost"] for r in ok], "o-", ms=3)
+            else:
+                for k, case in enumerate(cases):
+                    ax.plot(x, [r["cases"][case]["terms"].get(term.name) for r in ok], "o-", ms=3,
+                            color=f"C{k % 10}", label=case if len(cases) > 1 else None)
+                if len(cases) > 1:
+                    ax.legend(fontsize="x-small")
+            ax.set_ylabel(label)
+            ax.grid(True, alpha=0.3)
+        axes[-1, 0].set_xlabel(f"{x_name} [{job.units.get(x_name, '')}]" if len(names) == 1 else
+                               f"point ({', '.join(names)} in the table)")
+    fig.suptitle(f"sweep: {job.name}")
+    fig.tight_layout()
+    atomic_write_figure(fig, path)
+    plt.close(fig)
+
+
+def _combined_term(record: dict, term: str, cases: list[str]) -> float:
+    values = [record["cases"][c]["terms"].get(term) for c in cases]
+    return float(np.mean(values)) if None not in values else float("nan")

@@ -1,0 +1,253 @@
+"""Running a job: the method asks for points, the runner answers them from the log or the executor.
+
+    job = load_job("netlists/jobs/drive_line_controller.yaml")
+    summary = run_optimise(job, resume=False, workers=None)      # or run_sweep(job)
+
+Each batch of points the method asks for gets consecutive evaluation indices. On ``--resume`` the method
+is re-run from its seed; a point whose index and coordinates are in the log is answered from it, the
+others are evaluated (in parallel) and appended as each finishes. Since the methods are deterministic
+given the seed, the batching and the costs, the resumed run retraces the interrupted one exactly and goes
+on from where it stopped; the batching (``candidates`` of the Complex method) is taken from the log's
+header, not from the number of workers of the resumed run.
+
+Outputs: ``<output>/`` for ``optimise`` and ``<output>/sweep/`` for ``sweep``: the evaluation log
+(:mod:`blocks.optimise.log`) and the report (:mod:`blocks.optimise.report`).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from blocks.optimise.complex import ComplexSettings, complex_minimise
+from blocks.optimise.executors import make_executor
+from blocks.optimise.job import Job
+from blocks.optimise.log import EvaluationLog, point_id
+from blocks.optimise.scipy_methods import differential_evolution, nelder_mead
+
+
+class Interrupted(Exception):
+    """Ctrl-C: the evaluations finished so far are in the log."""
+
+    def __init__(self, summary: "Summary"):
+        self.summary = summary
+        super().__init__("interrupted")
+
+
+@dataclass
+class Summary:
+    job: Job
+    command: str
+    folder: Path
+    workers: int
+    executor: str
+    candidates: int | None = None
+    evaluated: int = 0  # in this run
+    replayed: int = 0  # answered from the log
+    failed: int = 0
+    best: dict | None = None
+    reason: str = ""
+    seconds: float = 0.0
+    iterations: int = 0
+    records: list = field(default_factory=list)
+    report: Path | None = None
+
+    @property
+    def total(self) -> int:
+        return self.evaluated + self.replayed
+
+    @property
+    def rate(self) -> float:
+        return self.evaluated / self.seconds if self.seconds > 0 else 0.0
+
+
+class Progress:
+    """Progress on stderr: done, best so far, failures, rate. On a terminal one line rewritten at most 5 times
+    a second; otherwise (a log file) a line every 10 s."""
+
+    def __init__(self, total: int | None, enabled: bool, stream=None):
+        self.total, self.enabled, self.stream = total, enabled, stream or sys.stderr
+        self.tty = bool(getattr(self.stream, "isatty", lambda: False)())
+        self.started = time.perf_counter()
+        self.last = self.started
+
+    def show(self, s: Summary, force: bool = False) -> None:
+        now = time.perf_counter()
+        if not self.enabled or (not force and now - self.last < (0.2 if self.tty else 10.0)):
+            return
+        self.last = now
+        elapsed = now - self.started
+        rate = s.evaluated / elapsed if elapsed > 0 else 0.0
+        done = f"{s.total}/{self.total}" if self.total else f"{s.total}"
+        best = f"{s.best['cost']:.6g}" if s.best else "-"
+        extra = f" ({s.replayed} from the log)" if s.replayed else ""
+        line = (f"vphs: {done} evaluations{extra}, {s.failed} failed, best cost {best}, {rate:.1f}/s, "
+                f"{elapsed:.1f} s")
+        print(f"\r{line}" if self.tty else line, end="" if self.tty else "\n", file=self.stream, flush=True)
+
+    def close(self, s: Summary) -> None:
+        if self.enabled:
+            self.show(s, force=True)
+            if self.tty:
+                print(file=self.stream, flush=True)
+
+
+class Runner:
+    """The ``evaluate(points, info)`` the methods call: log lookup, parallel evaluation, logging, progress."""
+
+    def __init__(self, job: Job, log: EvaluationLog, executor, summary: Summary, progress: Progress, to_design):
+        self.job, self.log, self.executor, self.summary, self.progress = job, log, executor, summary, progress
+        self.to_design = to_design
+        self.next_index = 0
+
+    def __call__(self, points: list, info: list[dict]) -> list[float]:
+        first, self.next_index = self.next_index, self.next_index + len(points)
+        costs: list[float | None] = [None] * len(points)
+        todo = []
+        for pos, z in enumerate(points):
+            record = self.log.finished(first + pos, z)
+            if record is not None:
+                costs[pos] = record["cost"]
+                self.summary.replayed += 1
+                self._seen(record)
+            else:
+                todo.append(pos)
+        if todo:
+            designs = [self.to_design(points[pos]) for pos in todo]
+            for k, outcome in self.executor.run(designs):
+                pos = todo[k]
+                x = [float(v) for v in points[pos]]
+                record = {"type": "evaluation", "id": point_id(first + pos, x), "index": first + pos, "x": x,
+                          "parameters": designs[k], **info[pos], **outcome}
+                self.log.append(record)
+                costs[pos] = record["cost"]
+                self.summary.evaluated += 1
+                self._seen(record)
+        return costs
+
+    def _seen(self, record: dict) -> None:
+        s = self.summary
+        s.records.append(record)
+        if record["status"] != "ok":
+            s.failed += 1
+        elif s.best is None or record["cost"] < s.best["cost"]:
+            s.best = record
+        self.progress.show(s)
+
+
+def _open(job: Job, command: str, folder: Path, resume: bool, workers, scheduler, client, header_extra):
+    """Check the output folder's log, start the executor, open the log (``header_extra(executor, old_header)``
+    gives the method's entries of a new header)."""
+    fingerprint = f"{job.fingerprint}-{command}"
+    old = EvaluationLog.existing(folder, fingerprint, resume)  # refuses a foreign log before any worker starts
+    executor = make_executor(job.spec(), workers or job.workers, scheduler or job.scheduler, client)
+    header = {"type": "job", "fingerprint": fingerprint, "job": str(job.file), "name": job.name,
+              "command": command, "netlist": job.netlist, "seed": job.seed, **header_extra(executor, old)}
+    try:
+        log = EvaluationLog(folder, header)
+    except BaseException:
+        executor.close()
+        raise
+    return log, executor
+
+
+def run_optimise(job: Job, resume: bool = False, workers: int | None = None, scheduler: str | None = None,
+                 client=None, quiet: bool = False, stream=None, report: bool = True) -> Summary:
+    """Run the job's optimisation (see the module docstring); :class:`Interrupted` on Ctrl-C."""
+    if job.method is None:
+        from blocks.errors import NetlistError
+
+        raise NetlistError(job.file, "the job has no algorithm: section; 'vphs optimise' needs one "
+                                     "(or run 'vphs sweep' for its sweep:)")
+    folder = job.output
+    settings = job.settings
+
+    def header(executor, old) -> dict:
+        entries = {"method": job.method}
+        if job.method == "complex":  # a resumed run keeps the batching it was started with
+            entries["candidates"] = int(old["candidates"]) if old else (settings.candidates or executor.workers)
+        return entries
+
+    log, executor = _open(job, "optimise", folder, resume, workers, scheduler, client, header)
+    summary = Summary(job, "optimise", folder, executor.workers, executor.kind)
+    if job.method == "complex":
+        summary.candidates = int(log.header["candidates"])
+        settings = ComplexSettings(**{**settings.__dict__, "candidates": summary.candidates})
+    budget = getattr(settings, "max_evaluations", None)
+    progress = Progress(budget, not quiet, stream)
+    runner = Runner(job, log, executor, summary, progress, job.values)
+    started = time.perf_counter()
+    try:
+        if job.method == "complex":
+            result = complex_minimise(runner, job.lower, job.upper, settings, job.seed)
+        elif job.method == "nelder_mead":
+            if job.start == "netlist":
+                settings = dataclasses.replace(settings, x0=list(job.coordinates(job.start_values)))
+            result = nelder_mead(runner, job.lower, job.upper, settings, job.seed)
+        else:
+            result = differential_evolution(runner, job.lower, job.upper, settings, job.seed)
+    except KeyboardInterrupt:
+        summary.seconds = time.perf_counter() - started
+        summary.reason = "interrupted"
+        _close(executor, log, progress, summary)
+        raise Interrupted(summary) from None
+    except BaseException:
+        _close(executor, log, progress, summary)
+        raise
+    summary.seconds = time.perf_counter() - started
+    summary.reason, summary.iterations = result.reason, result.iterations
+    _close(executor, log, progress, summary)
+    if report:
+        from blocks.optimise.report import write_optimise_report
+
+        summary.report = write_optimise_report(summary)
+    return summary
+
+
+def run_sweep(job: Job, resume: bool = False, workers: int | None = None, scheduler: str | None = None,
+              client=None, quiet: bool = False, stream=None, report: bool = True) -> Summary:
+    """Evaluate every point of the job's sweep (in parallel); :class:`Interrupted` on Ctrl-C."""
+    if not job.sweep_points:
+        from blocks.errors import NetlistError
+
+        raise NetlistError(job.file, "the job has no sweep: section; 'vphs sweep' needs one")
+    folder = job.output / "sweep"
+    log, executor = _open(job, "sweep", folder, resume, workers, scheduler, client,
+                          lambda executor, old: {"sweep": job.sweep_names})
+    summary = Summary(job, "sweep", folder, executor.workers, executor.kind)
+    progress = Progress(len(job.sweep_points), not quiet, stream)
+    names = job.sweep_names
+    runner = Runner(job, log, executor, summary, progress, lambda x: dict(zip(names, (float(v) for v in x))))
+    points = [np.array([p[n] for n in names]) for p in job.sweep_points]
+    started = time.perf_counter()
+    try:
+        runner(points, [{"step": "sweep", "iteration": 0, "n_rep": 0}] * len(points))
+    except KeyboardInterrupt:
+        summary.seconds = time.perf_counter() - started
+        summary.reason = "interrupted"
+        _close(executor, log, progress, summary)
+        raise Interrupted(summary) from None
+    except BaseException:
+        _close(executor, log, progress, summary)
+        raise
+    summary.seconds = time.perf_counter() - started
+    summary.reason = "done"
+    _close(executor, log, progress, summary)
+    if report:
+        from blocks.optimise.report import write_sweep_report
+
+        summary.report = write_sweep_report(summary)
+    return summary
+
+
+def _close(executor, log, progress, summary) -> None:
+    try:
+        executor.close()
+    finally:
+        log.close()
+        progress.close(summary)
