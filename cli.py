@@ -315,6 +315,9 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         print(f"vphs: interrupted; {s.total} evaluations are in {s.folder}; continue with: "
               f"vphs {args.command} {args.job} --resume", file=sys.stderr)
         return 130
+    if summary.above_penalty:
+        print(f"vphs: warning: {summary.above_penalty} working designs cost more than a failed simulation's "
+              f"penalty ({summary.job.penalty:g}); raise cost.penalty in the job", file=sys.stderr)
     if summary.best is None:
         print(f"vphs: every evaluation failed; see {summary.report}", file=sys.stderr)
         return EXIT_FAILED

@@ -233,6 +233,7 @@ def observe(t, x, th, y):
         """'A' (a net), 'sensor.y' (a port), 'valve.x' (a state) or 'motor.a.flow' (what a block delivers
         to the net at a physical port: flow, torque or force, positive into the net) -> (expression, SI unit)."""
         st = self.st
+        ref = st.circuit.resolve_alias(ref)
         through = self._resolve_through(ref)
         if through is not None:
             return through

@@ -69,6 +69,15 @@ class FlatCircuit:
     nets: dict[str, FlatNet]
     parameters: ParameterTable
     outputs: list[FlatOutput]
+    aliases: dict[str, str] = field(default_factory=dict)
+    """Other names of things: a subsystem's exposed port ("bridge.x_ref") -> its inner net or port, and a
+    net merged into another through a subsystem port ("bridge.P") -> the net it became ("P")."""
+
+    def resolve_alias(self, name: str) -> str:
+        seen = 0
+        while name in self.aliases and seen < 50:
+            name, seen = self.aliases[name], seen + 1
+        return name
 
 
 def load_netlist(file: str | Path) -> spec.Netlist:
@@ -149,7 +158,8 @@ def flatten(file: str | Path) -> FlatCircuit:
     for exposed, ref in netlist.ports.items():  # a file's own exposed ports must name something real
         if ref not in builder.net_names:
             builder._resolve_ref(ref, ref, located, ("ports", exposed))
-    circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs)
+    aliases = {k: v for k, v in {**builder.aliases, **builder.merged_into}.items() if k != v}
+    circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs, aliases)
     builder.table.order()  # unknown names and cycles are reported now, not at the first evaluation
     return circuit
 
@@ -162,6 +172,7 @@ class _Builder:
         self.aliases: dict[str, str] = {}  # exposed subsystem port "left.P" -> internal ref
         self.net_names: set[str] = set()
         self.port_refs: list[tuple[str, str, Located, tuple]] = []
+        self.merged_into: dict[str, str] = {}
 
     # ---- parameters ---------------------------------------------------------------------------------
     def add_fluid(self, netlist: spec.Netlist, located: Located) -> None:
@@ -340,6 +351,9 @@ class _Builder:
                 owner[(comp, port)] = net_name
                 ports_of.setdefault(net_name, []).append((comp, port, located, ppath))
         merged: dict[str, FlatNet] = {}
+        for net_name, *_ in self.raw_nets:
+            if find(net_name) != net_name:
+                self.merged_into[net_name] = find(net_name)
         for net_name, net, located, path in self.raw_nets:
             root = find(net_name)
             flat = merged.setdefault(root, FlatNet(root, None, [], located, path))

@@ -57,11 +57,22 @@ def warm_up(spec: EvalSpec) -> None:
     evaluate_design(spec, {})
 
 
-def _worker_start(spec: EvalSpec) -> None:
+def _worker_start(spec: EvalSpec, parent: int) -> None:
     global _WORKER_SPEC
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the job's to handle
+    threading.Thread(target=_orphan_watch, args=(parent,), daemon=True).start()
     _WORKER_SPEC = spec
     warm_up(spec)
+
+
+def _orphan_watch(parent: int) -> None:
+    """End this worker when the job's process is gone (killed): a forked worker holds the task queue's
+    pipe open itself, so it would otherwise wait for work for ever."""
+    import time
+
+    while os.getppid() == parent:
+        time.sleep(0.5)
+    os._exit(1)
 
 
 def _worker_task(design: dict) -> dict:
@@ -83,7 +94,7 @@ class LocalExecutor:
             warm_up(spec)  # loaded (and its compiled code read from the cache) once here; forked workers inherit it
         context = multiprocessing.get_context("fork" if fork_ok else "spawn")
         self.pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=_worker_start,
-                                        initargs=(spec,))
+                                        initargs=(spec, os.getpid()))
 
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         from concurrent.futures import as_completed

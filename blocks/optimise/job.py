@@ -304,6 +304,35 @@ _ALL_FIELDS = {name for m in (JobFile, CostSpec, SweepSpec, SweepRange, TermSpec
                for name in m.model_fields}
 
 
+def _dimension(output):
+    """The dimension of a logged signal: its SI unit, or for a generic signal block the netlist's display
+    unit (x: {of: travel.y, unit: mm} is a length); None if neither says."""
+    for text in (output.unit, output.display_unit):
+        if text not in ("1", "", None, GENERIC):
+            return parse_unit(text)
+    return None
+
+
+def _si_name(dims) -> str:
+    """'m', 'Pa', 'm/s'... for the SI unit of a dimension, or its base-unit description."""
+    for name in ("m", "m/s", "Pa", "rad", "rad/s", "N", "N*m", "m^3/s", "s", "kg"):
+        unit = parse_unit(name)
+        if unit.same_dimension(dims) and unit.factor == 1.0:
+            return name
+    return dims.describe_dims()
+
+
+def _si(raw, dims) -> float:
+    """A number (SI) or '<number> <unit>' (its dimension checked against ``dims`` if known) in SI."""
+    if isinstance(raw, (int, float)) and not isinstance(raw, bool):
+        return float(raw)
+    number, unit_text = split_quantity(str(raw))
+    unit = parse_unit(unit_text)
+    if unit_text and dims is not None and not unit.same_dimension(dims):
+        raise UnitError(f"wrong unit: '{raw}' is in {unit.describe_dims()}, expected {dims.describe_dims()}")
+    return number * unit.factor
+
+
 class _Resolver:
     """Names, units and bounds of a validated job, checked against its netlist."""
 
@@ -339,7 +368,10 @@ class _Resolver:
             try:
                 self.circuit.vectors({**fixed, **values})
             except NetlistError as exc:
-                raise self.error(("load_cases", case) if m.load_cases else ("set",), f"{exc}") from None
+                where = f"load_cases.{case}" if m.load_cases else "set"
+                origin = f" ({exc.file}:{exc.line}:{exc.column})" if exc.line is not None else f" ({exc.file})"
+                raise self.error(("load_cases", case) if m.load_cases else ("set",),
+                                 f"{where}: with these values {exc.message}{origin}") from None
         start = self.circuit.vectors(fixed).values
         job = Job(
             file=self.located.file, name=name, netlist=str(netlist),
@@ -423,18 +455,20 @@ class _Resolver:
         if signal is None:
             hint = nearest(t.signal, outputs)
             raise self.error(path + ("signal",), f"{where}: '{t.signal}' is not a logged signal of the netlist "
-                             f"(logged: {', '.join(hint or outputs)})")
-        generic = signal.unit in ("1", "")
+                             + (f"(did you mean {', '.join(hint)}?)" if hint else f"(logged: {', '.join(outputs)})"))
+        dims = _dimension(signal)
         scale, unit = 1.0, (t.unit or signal.unit)
         if t.unit is not None:
             try:
                 parsed = parse_unit(t.unit)
             except UnitError as exc:
                 raise self.error(path + ("unit",), f"{where}.unit: {exc}") from None
-            if not generic and not parsed.same_dimension(parse_unit(signal.unit)):
+            if dims is not None and not parsed.same_dimension(dims):
                 raise self.error(path + ("unit",), f"{where}.unit: '{t.unit}' does not fit signal {t.signal}, "
-                                 f"which is in {signal.unit}")
+                                 f"which is in {dims.describe_dims()}")
             scale = parsed.factor
+        elif dims is not None:
+            unit = _si_name(dims)
         reference, offset = None, 0.0
         if t.kind == "hp_ise":
             if t.reference is not None:
@@ -444,14 +478,14 @@ class _Resolver:
         elif t.wn is not None:
             raise self.error(path + ("wn",), f"{where}: wn belongs to hp_ise terms only")
         if isinstance(t.reference, str) and t.reference in outputs:
-            ref = outputs[t.reference]
-            if not generic and ref.unit not in ("1", "") and not parse_unit(ref.unit).same_dimension(parse_unit(signal.unit)):
-                raise self.error(path + ("reference",), f"{where}: reference {t.reference} is in {ref.unit}, "
-                                 f"signal {t.signal} in {signal.unit}")
+            ref_dims = _dimension(outputs[t.reference])
+            if dims is not None and ref_dims is not None and not ref_dims.same_dimension(dims):
+                raise self.error(path + ("reference",), f"{where}: reference {t.reference} is in "
+                                 f"{ref_dims.describe_dims()}, signal {t.signal} in {dims.describe_dims()}")
             reference = t.reference
         elif t.reference is not None:
             try:
-                offset = quantity(t.reference, GENERIC if generic else signal.unit)
+                offset = _si(t.reference, dims)
             except UnitError as exc:
                 hint = nearest(str(t.reference), outputs)
                 raise self.error(path + ("reference",), f"{where}.reference: neither a logged signal"

@@ -86,6 +86,9 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
              ""]
+    if summary.above_penalty:
+        lines += [f"**Warning:** {summary.above_penalty} working designs cost more than the penalty of a failed "
+                  f"simulation ({_fmt(job.penalty)}), so failures ranked as better than they; raise cost.penalty.", ""]
     if best is None:
         lines += ["**No evaluation succeeded.** The errors:", ""]
         lines += [f"- {e}" for e in _distinct_errors(records)] + [""]
@@ -246,7 +249,7 @@ def write_sweep_report(summary) -> Path:
              f"{job.combine} over {', '.join(cases)}", ""]
     if ok:
         best = min(ok, key=lambda r: r["cost"])
-        lines += [f"Lowest cost {_fmt(best['cost'])} at " + ", ".join(_param(job, n, best["parameters"][n]) for n in names)
+        lines += [f"Lowest cost {_fmt(best['cost'])} at " + ", ".join(f"{n} = {_param(job, n, best['parameters'][n])}" for n in names)
                   + f" (evaluation {best['index']}).", ""]
     lines += ["![sweep](sweep.png)", "", "| " + " | ".join(header[:-1]) + " |", "|" + "---|" * (len(header) - 1)]
     for row in rows:

@@ -54,6 +54,7 @@ class Summary:
     reason: str = ""
     seconds: float = 0.0
     iterations: int = 0
+    above_penalty: int = 0  # working designs that cost more than a failed one (a penalty set too low)
     records: list = field(default_factory=list)
     report: Path | None = None
 
@@ -135,7 +136,10 @@ class Runner:
         s.records.append(record)
         if record["status"] != "ok":
             s.failed += 1
-        elif s.best is None or record["cost"] < s.best["cost"]:
+            return self.progress.show(s)
+        if record["cost"] >= self.job.penalty:
+            s.above_penalty += 1
+        if s.best is None or record["cost"] < s.best["cost"]:
             s.best = record
         self.progress.show(s)
 

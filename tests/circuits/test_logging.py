@@ -49,3 +49,13 @@ def test_through_value_of_the_wrong_kind_is_refused(tmp_path):
     with pytest.raises(NetlistError) as info:
         Circuit(flatten(path), compile=False)
     assert "port b is hydraulic; ask for its flow" in str(info.value)
+
+
+def test_outputs_may_name_subsystem_ports_and_merged_nets():
+    """'bridge.P' is the exposed port of a subsystem, merged into the outer supply net P: logging it logs P."""
+    root = Path(__file__).resolve().parents[2]
+    circuit = Circuit(flatten(root / "netlists" / "examples" / "three_axes.yaml"), compile=False)
+    generator = circuit.generator
+    assert generator.resolve_output("bridge.P") == generator.resolve_output("P")
+    assert generator.resolve_output("slew.T") == generator.resolve_output("T")
+    assert generator.resolve_output("bridge.A")[1] == "Pa"

@@ -1,0 +1,27 @@
+"""Sensor offset on a measured channel: y' = y + o, applied to the logged signal (post-processing)."""
+
+import numpy as np
+
+from blocks.calibrate.candidates.base import Candidate, Place, register
+
+
+@register
+class SensorOffset(Candidate):
+    name = "sensor_offset"
+    title = "sensor offset"
+    description = "a constant offset o of a measured channel, y' = y + o (on the logged signal, not in the netlist)"
+
+    def places(self, ctx):
+        out = []
+        for ch in ctx.exp.channels:
+            span = float(np.max(np.abs(ctx.data.measured[ch.name])))
+            sigma = ctx.data.sigma[ch.name]
+            limit = 0.05 * span + 3.0 * sigma
+            out.append(Place(self.name, f"{self.name}@{ch.name}", f"channel {ch.name}", f"offset:{ch.name}",
+                             ch.si_unit or "1", 0.0, -np.inf, np.inf, 0.1 * sigma, (-limit, limit), kind="channel",
+                             target={"channel": ch.name}, one_sided=False, meaning="added to the logged signal",
+                             plot_against=ch.name))
+        return out
+
+    def patch(self, doc, place):
+        raise TypeError("a sensor offset patches the compared signal, not the netlist")

@@ -1,0 +1,134 @@
+"""Weighted least squares on the normalised residuals: scipy's trust-region reflective method with the
+model's own absolute-step finite-difference Jacobian, bounds on every parameter.
+
+Standard errors: cov = (J^T J)^-1 at the solution (the residuals are already divided by the noise, so this
+is the covariance when the model is right), inflated by max(1, chi^2/nu) when the fit is worse than the
+noise allows: a misfit never makes a parameter look better determined than the data say.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from blocks.calibrate.model import Model
+
+
+@dataclass
+class FitResult:
+    x: np.ndarray  # the full parameter vector
+    active: np.ndarray  # bool: which entries were fitted
+    rows: np.ndarray  # bool: which residual rows were used
+    r: np.ndarray  # all residual rows at x (0 outside the computed points)
+    J: np.ndarray  # d r[rows] / d x[active]
+    chi2: float
+    n: int
+    p: int
+    cov: np.ndarray  # of x[active], inflated by max(1, chi2/nu)
+    se: np.ndarray  # full length, NaN where not fitted
+    nfev: int
+    message: str
+    unsettled: int
+    failures: list[str]
+
+    @property
+    def nu(self) -> int:
+        return max(self.n - self.p, 1)
+
+    @property
+    def reduced(self) -> float:
+        return self.chi2 / self.nu
+
+    def bic(self) -> float:
+        """chi^2 + p ln n: -2 log-likelihood up to a constant (known noise) plus the BIC penalty."""
+        return self.chi2 + self.p * np.log(self.n)
+
+
+def points_of(model: Model, rows: np.ndarray):
+    """The steady points whose rows are used (None: all, or a time series)."""
+    if model.data.kind != "steady":
+        return None
+    pts = np.unique(model.row_point[rows])
+    return None if pts.size == model.data.n else pts
+
+
+def fit(model: Model, x0: np.ndarray, active: np.ndarray, rows: np.ndarray | None = None,
+        max_nfev: int = 40, tol: float = 1e-8) -> FitResult:
+    """Fit x[active] (others held at x0) to the residual rows ``rows`` (default: all)."""
+    rows = np.ones(model.n_rows, dtype=bool) if rows is None else rows
+    active = np.asarray(active, dtype=bool)
+    cols = np.nonzero(active)[0]
+    points = points_of(model, rows)
+    lo, hi = model.bounds()
+    x_base = np.array(x0, dtype=float)
+    z0 = np.clip(x_base[cols], lo[cols], hi[cols])
+    model.failures.clear()
+    last = {}
+
+    def full(z):
+        x = x_base.copy()
+        x[cols] = z
+        return x
+
+    def fun(z):
+        x = full(z)
+        r = model.residuals(x, points)
+        last["x"], last["r"] = x, r
+        return r[rows]
+
+    def jac(z):
+        x = full(z)
+        r0 = last["r"] if "x" in last and np.array_equal(last["x"], x) else model.residuals(x, points)
+        return model.jacobian(x, cols, points, r0)[rows]
+
+    if cols.size:
+        # keep the start strictly inside the bounds, as trf needs
+        span = np.where(np.isfinite(hi[cols] - lo[cols]), hi[cols] - lo[cols], np.abs(z0) + 1.0)
+        z0 = np.clip(z0, lo[cols] + 1e-10 * span, hi[cols] - 1e-10 * span)
+        res = least_squares(fun, z0, jac=jac, bounds=(lo[cols], hi[cols]), method="trf", x_scale="jac",
+                            ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev)
+        x = full(res.x)
+        nfev, message = res.nfev, res.message
+    else:
+        x, nfev, message = x_base, 0, "nothing to fit"
+    r = model.residuals(x, points)
+    J = model.jacobian(x, cols, points, r)[rows] if cols.size else np.zeros((int(rows.sum()), 0))
+    return summarise(model, x, active, rows, r, J, nfev, message)
+
+
+def summarise(model: Model, x, active, rows, r, J, nfev=0, message="") -> FitResult:
+    chi2 = float(np.sum(r[rows] ** 2))
+    n, p = int(rows.sum()), int(np.sum(active))
+    cov = covariance(J)
+    nu = max(n - p, 1)
+    cov = cov * max(1.0, chi2 / nu)
+    se = np.full(len(x), np.nan)
+    se[np.nonzero(active)[0]] = np.sqrt(np.maximum(np.diag(cov), 0.0)) if p else []
+    unsettled = len(model.unsettled) if model.data.kind == "steady" else 0
+    return FitResult(x, np.asarray(active, bool), rows, r, J, chi2, n, p, cov, se, nfev, message, unsettled,
+                     list(model.failures))
+
+
+def covariance(J: np.ndarray) -> np.ndarray:
+    """(J^T J)^-1 through the SVD of the column-scaled Jacobian (parameters differ in scale by 1e15 in SI),
+    as a pseudo-inverse: a direction the data do not fix (singular value below 1e-10 of the largest) gets
+    infinite variance on the parameters it involves rather than a silently small one."""
+    if J.shape[1] == 0:
+        return np.zeros((0, 0))
+    norms = np.sqrt(np.sum(J * J, axis=0))
+    scale = np.where(norms > 0, 1.0 / np.where(norms > 0, norms, 1.0), 1.0)
+    Js = J * scale
+    U, s, Vt = np.linalg.svd(Js, full_matrices=False)
+    keep = s > s[0] * 1e-10 if s.size and s[0] > 0 else np.zeros_like(s, dtype=bool)
+    inv = np.zeros_like(s)
+    inv[keep] = 1.0 / s[keep] ** 2
+    cov = (Vt.T * inv) @ Vt
+    cov = cov * np.outer(scale, scale)
+    for k in np.nonzero(~keep)[0]:
+        for j in np.nonzero(np.abs(Vt[k]) > 1e-3)[0]:
+            cov[j, j] = np.inf
+    for j in np.nonzero(norms == 0)[0]:
+        cov[j, j] = np.inf
+    return cov

@@ -1,0 +1,130 @@
+"""Editing a netlist as data: new parameters, components and nets, a port moved onto a new net; written as
+a new file (atomically), the original never touched.
+
+The document is the file's YAML mapping (read with :func:`blocks.netlist.yaml_source.read_yaml`, so the
+same safe subset and bounds apply). Only the top level of the file is edited: components inside a
+subsystem are not patched (their nets and ports are still reachable through the subsystem's exposed ports).
+Relative paths inside the document (subsystem netlists, CSV columns of array parameters) are rewritten for
+the new file's folder, so the patched file reads the same files as the original.
+"""
+
+from __future__ import annotations
+
+import copy
+import os
+from pathlib import Path
+
+import yaml
+
+from blocks.netlist.yaml_source import read_yaml
+from blocks.result import atomic_write_text
+
+
+class NetlistDoc:
+    """A netlist file's mapping, editable; remembers the folder its relative paths are relative to."""
+
+    def __init__(self, data: dict, folder: Path):
+        self.data = data
+        self.folder = Path(folder)
+        self.notes: list[str] = []
+
+    @classmethod
+    def read(cls, file: str | Path) -> "NetlistDoc":
+        located = read_yaml(file)
+        return cls(copy.deepcopy(located.data), Path(file).resolve().parent)
+
+    def copy(self) -> "NetlistDoc":
+        doc = NetlistDoc(copy.deepcopy(self.data), self.folder)
+        doc.notes = list(self.notes)
+        return doc
+
+    # ---- sections ---------------------------------------------------------------------------------
+    def section(self, key: str) -> dict:
+        if self.data.get(key) is None:
+            self.data[key] = {}
+        return self.data[key]
+
+    def unique(self, base: str) -> str:
+        """A name not yet used by a parameter, component, subsystem or net."""
+        used = set(self.section("parameters")) | set(self.section("components")) | set(self.section("nets")) \
+            | set(self.section("subsystems"))
+        name, k = base, 2
+        while name in used:
+            name, k = f"{base}_{k}", k + 1
+        return name
+
+    def add_parameter(self, name: str, value) -> None:
+        self.section("parameters")[name] = value
+
+    def add_component(self, name: str, type_name: str, params: dict) -> None:
+        self.section("components")[name] = {"type": type_name, "params": dict(params)}
+
+    def net_ports(self, net: str) -> list[str]:
+        value = self.section("nets")[net]
+        return value if isinstance(value, list) else value["ports"]
+
+    def set_net_ports(self, net: str, ports: list[str]) -> None:
+        nets = self.section("nets")
+        if isinstance(nets[net], list):
+            nets[net] = list(ports)
+        else:
+            nets[net]["ports"] = list(ports)
+
+    def add_net(self, name: str, ports: list[str], volume=None) -> None:
+        spec = {"ports": list(ports)}
+        if volume is not None:
+            spec["volume"] = volume
+        self.section("nets")[name] = spec
+
+    def net_of(self, port: str) -> str | None:
+        for net in self.section("nets"):
+            if port in self.net_ports(net):
+                return net
+        return None
+
+    def move_port(self, port: str, new_net: str, new_port_on_old: str, new_port_on_new: str, volume=None) -> str:
+        """Insert a two-port element in series at ``port``: the port leaves its net for ``new_net``, the
+        element's ``new_port_on_old`` joins the old net and ``new_port_on_new`` the new one. Returns the old net."""
+        old = self.net_of(port)
+        ports = [p for p in self.net_ports(old) if p != port] + [new_port_on_old]
+        self.set_net_ports(old, ports)
+        self.add_net(new_net, [port, new_port_on_new], volume)
+        return old
+
+    def set_param(self, component: str, param: str, value) -> None:
+        comp = self.section("components")[component]
+        if comp.get("params") is None:
+            comp["params"] = {}
+        comp["params"][param] = value
+
+    def param_text(self, component: str, param: str):
+        comp = self.section("components")[component]
+        return (comp.get("params") or {}).get(param)
+
+    # ---- writing ----------------------------------------------------------------------------------
+    def write(self, path: str | Path, header: str = "") -> Path:
+        path = Path(path).resolve()
+        data = _rebase(copy.deepcopy(self.data), self.folder, path.parent)
+        text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=110)
+        if header:
+            text = "".join(f"# {line}\n" if line else "#\n" for line in header.splitlines()) + text
+        atomic_write_text(path, text)
+        return path
+
+
+def _rebase(data: dict, old: Path, new: Path) -> dict:
+    """Rewrite relative file references (subsystem netlists, csv columns) from folder ``old`` to ``new``."""
+
+    def move(rel: str) -> str:
+        if os.path.isabs(rel):
+            return rel
+        return os.path.relpath((old / rel).resolve(), new)
+
+    for sub in (data.get("subsystems") or {}).values():
+        if isinstance(sub, dict) and isinstance(sub.get("netlist"), str):
+            sub["netlist"] = move(sub["netlist"])
+    for comp in (data.get("components") or {}).values():
+        for value in ((comp or {}).get("params") or {}).values():
+            if isinstance(value, dict) and isinstance(value.get("csv"), str):
+                value["csv"] = move(value["csv"])
+    return data

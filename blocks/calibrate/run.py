@@ -1,0 +1,330 @@
+"""``vphs calibrate``: declared fit, residual trace, augmentation, repeated at most twice more; then report.
+
+    calibration = calibrate("netlists/experiments/relief_rig_steady.yaml", "out/calibrate/relief_rig")
+
+Round k (k = 1, 2, 3):
+1. fit the current model (the declared netlist, or the augmented one of the previous round, with the
+   accepted parameters free beside the declared ones); lack-of-fit statistics, drift, held-out error;
+2. write the screening netlist (every candidate at every place, parameters at zero), check it reproduces
+   the fit, score every candidate (:mod:`blocks.calibrate.screening`), refit the best few and decide
+   (:mod:`blocks.calibrate.selection`);
+3. if one is accepted: write the augmented netlist ``round<k>/augmented.yaml`` (the original is never
+   touched) with the effect as a real block or parameter, at its fitted value, and go on; else stop.
+After the last round the final model is refitted from the written file (so what is reported is what the
+file does). The verdict: the effects found, the ambiguities, and "unexplained discrepancy remains" when
+the final fit is still significantly worse than the noise (chi^2, residual whiteness or drift, p < 0.001).
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import yaml
+
+from blocks.calibrate.candidates import Context, registered
+from blocks.calibrate.data import Dataset, load_data
+from blocks.calibrate.experiment import Experiment, Free, display_unit, load_experiment
+from blocks.calibrate.fit import FitResult, fit
+from blocks.calibrate.heldout import HeldOut, heldout
+from blocks.calibrate.model import Model
+from blocks.calibrate.patch import NetlistDoc
+from blocks.calibrate.screening import Score, screen
+from blocks.calibrate.selection import Decision, decide
+from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
+from blocks.result import atomic_write_text
+
+
+@dataclass
+class Stage:
+    """A fitted model with its statistics."""
+
+    netlist: Path
+    model: Model
+    fit: FitResult
+    lof: LackOfFit
+    heldout: HeldOut | None = None
+
+
+@dataclass
+class Round:
+    index: int
+    stage: Stage
+    scores: list[Score]
+    consistency: float
+    decision: Decision
+    notes: list[str]
+    screening_file: Path
+    augmented_file: Path | None = None
+    smodel: Model | None = None
+
+
+@dataclass
+class Calibration:
+    exp: Experiment
+    data: Dataset
+    out: Path
+    rounds: list[Round] = field(default_factory=list)
+    final: Stage | None = None
+    initial: Stage | None = None
+    verdict: list[str] = field(default_factory=list)
+    unexplained: bool = False
+    accepted: list = field(default_factory=list)  # (key, title, where, param, value, se, unit)
+    seconds: dict = field(default_factory=dict)
+    simulations: int = 0
+
+
+def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: int | None = None,
+              with_heldout: bool = True) -> Calibration:
+    say = progress or (lambda message: None)
+    clock = time.perf_counter()
+    exp = load_experiment(experiment)
+    data = load_data(exp)
+    out = Path(out)
+    cal = Calibration(exp, data, out)
+    globals_ = list(exp.free) + latent_globals(exp, data)
+    netlist = exp.netlist
+    x_prev: np.ndarray | None = None
+    prev_model: Model | None = None
+    n_rounds = rounds or exp.spec.trace.rounds
+    accepted_keys: set[str] = set()
+    for k in range(1, n_rounds + 1):
+        t0 = time.perf_counter()
+        stage = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
+        cal.simulations += stage.model.simulations
+        say(f"round {k}: fitted {len(globals_)} parameters, chi^2/nu = {stage.lof.reduced:.3g} "
+            f"({stage.model.simulations} runs, {time.perf_counter() - t0:.1f} s)")
+        if k == 1:
+            cal.initial = stage
+        t1 = time.perf_counter()
+        rnd = trace_round(k, stage, exp, data, globals_, out, accepted_keys, with_heldout)
+        stage.heldout = rnd.decision.base_heldout or (heldout(stage.model, stage.fit, exp.spec.heldout)
+                                                       if with_heldout else None)
+        cal.rounds.append(rnd)
+        cal.seconds[f"round {k}"] = time.perf_counter() - t0
+        acc = rnd.decision.accepted
+        say(f"round {k}: screened {len(rnd.scores)} candidate places ({time.perf_counter() - t1:.1f} s): "
+            + (f"accepted {acc.score.place.key} = {acc.phi:.4g} +- {acc.se:.2g}" if acc else "nothing accepted"))
+        if acc is None:
+            break
+        place = acc.score.place
+        accepted_keys.add(place.key)
+        cal.accepted.append((place.key, registered()[place.candidate].title, place.where, place.param, acc.phi,
+                             acc.se, place.unit))
+        new = Free(place.param, acc.phi, place.lower, place.upper, acc.score.step or place.step, place.unit,
+                   "correction" if place.kind == "channel" else "candidate")
+        globals_ = globals_ + [new]
+        if place.kind == "netlist":
+            doc = NetlistDoc.read(netlist)
+            doc.add_parameter(place.param, float(acc.phi))
+            registered()[place.candidate].patch(doc, place)
+            target = out / f"round{k}" / "augmented.yaml"
+            doc.write(target, header=augmented_header(exp, cal, netlist))
+            rnd.augmented_file = target
+            netlist = target
+        prev_model = rnd.smodel
+        x_prev = acc.fit.x
+        write_augmented_experiment(exp, cal, netlist, globals_, acc, out)
+    if cal.accepted:
+        t0 = time.perf_counter()
+        final = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
+        final.heldout = heldout(final.model, final.fit, exp.spec.heldout) if with_heldout else None
+        cal.simulations += final.model.simulations
+        cal.seconds["final fit"] = time.perf_counter() - t0
+        cal.final = final
+    else:
+        cal.final = cal.rounds[-1].stage if cal.rounds else None
+    cal.verdict, cal.unexplained = verdict(cal)
+    cal.seconds["total"] = time.perf_counter() - clock
+    return cal
+
+
+def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
+    """The latent levels of time-series inputs (netlist parameters of the command profile) as free globals."""
+    out = []
+    if data.kind != "time":
+        return out
+    from blocks.circuit import Circuit
+
+    circuit = Circuit.from_file(exp.netlist, compile=False)
+    values = circuit.flat.parameters.evaluate({})
+    for ch in exp.inputs:
+        for name in ch.latent:
+            v = float(values[name])
+            out.append(Free(name, v, -np.inf, np.inf, 0.1 * data.sigma[ch.name],
+                            display_unit(circuit.flat.parameters.entries[name]), "latent"))
+    return out
+
+
+def fit_stage(netlist: Path, exp: Experiment, data: Dataset, globals_: list[Free], x_prev, prev_model) -> Stage:
+    from blocks.circuit import Circuit
+
+    circuit = Circuit.from_file(netlist)
+    model = Model(circuit, exp, data, globals_)
+    x0 = model.initial()
+    if x_prev is not None and prev_model is not None:
+        x0 = prev_model.extend(x_prev, model)
+    res = fit(model, x0, np.ones(model.layout.size, dtype=bool), max_nfev=60)
+    lof = lack_of_fit(model, res)
+    lof.drift = drift(model, res, list(exp.spec.drift))
+    return Stage(Path(netlist), model, res, lof)
+
+
+def context(stage: Stage, exp: Experiment, data: Dataset, doc: NetlistDoc) -> Context:
+    from blocks.units import parse_unit
+
+    circuit = stage.model.circuit
+    of = {o.name: o.of for o in circuit.flat.outputs}
+    logged = {of[c.signal] for c in exp.channels if c.signal and of.get(c.signal) in circuit.flat.nets}
+
+    def channels_in(unit):
+        return [c for c in exp.channels if c.si_unit not in ("", "1", "SI")
+                and parse_unit(c.si_unit).same_dimension(parse_unit(unit))]
+
+    flows = channels_in("m^3/s")
+    q_ref = max((float(np.max(np.abs(data.measured[c.name]))) for c in flows), default=1e-3) or 1e-3
+    pressures = channels_in("Pa")
+    p_ref = min((data.sigma[c.name] for c in pressures), default=1e4)
+    speeds = channels_in("rad/s")
+    w_ref = max((float(np.max(np.abs(data.measured[c.name]))) for c in speeds), default=10.0) or 10.0
+    t_span = float(data.t[-1] - data.t[0]) if data.kind == "time" else stage.model.settings.t_end
+    values = circuit.vectors().values
+    return Context(doc, circuit.flat, circuit.structure, values, exp, data, logged, q_ref, p_ref, w_ref, t_span)
+
+
+def all_places(ctx: Context, spec, accepted_keys: set[str]):
+    places = []
+    for name, cand in registered().items():
+        if spec.only is not None and name not in spec.only:
+            continue
+        if name in spec.exclude:
+            continue
+        places += [p for p in cand.places(ctx) if p.key not in accepted_keys]
+    return places
+
+
+def trace_round(k: int, stage: Stage, exp: Experiment, data: Dataset, globals_: list[Free], out: Path,
+                accepted_keys: set[str], with_heldout: bool) -> Round:
+    from blocks.circuit import Circuit
+
+    doc = NetlistDoc.read(stage.netlist)
+    ctx = context(stage, exp, data, doc)
+    places = all_places(ctx, exp.spec.trace, accepted_keys)
+    sdoc = doc.copy()
+    for place in places:
+        if place.kind == "netlist":
+            sdoc.add_parameter(place.param, place.zero)
+            registered()[place.candidate].patch(sdoc, place)
+    screening_file = out / f"round{k}" / "screening.yaml"
+    sdoc.write(screening_file, header=f"Screening netlist of round {k}: {stage.netlist.name} with every candidate "
+                                      f"at every place, parameters at zero (generated by vphs calibrate).")
+    scircuit = Circuit.from_file(screening_file)
+    extra = [Free(p.param, p.zero, p.lower, p.upper, p.step, p.unit,
+                  "correction" if p.kind == "channel" else "candidate") for p in places]
+    smodel = Model(scircuit, exp, data, list(globals_) + extra)
+    xs = stage.model.extend(stage.fit.x, smodel)
+    column_of = {p.key: smodel.layout.index(p.param) for p in places}
+    sbase = _carry(stage.fit, stage.model, smodel)
+    scores, consistency = screen(smodel, xs, sbase, places, column_of)
+    decision = decide(smodel, xs, sbase, scores, column_of, exp.spec.trace.top, exp.spec.heldout,
+                      stage.model, stage.fit) if with_heldout else _decide_without_heldout(
+        smodel, xs, sbase, scores, column_of, exp.spec.trace.top)
+    rnd = Round(k, stage, scores, consistency, decision, list(ctx.notes), screening_file, smodel=smodel)
+    stage.model.simulations += smodel.simulations
+    return rnd
+
+
+def _decide_without_heldout(smodel, xs, sbase, scores, column_of, top):
+    from blocks.calibrate.selection import Decision, candidates_to_refit, refit
+
+    base_chi2 = float(np.sum(smodel.residuals(xs)[sbase.rows] ** 2))
+    refits = sorted((refit(smodel, xs, sbase, s, column_of[s.place.key], base_chi2)
+                     for s in candidates_to_refit(scores, top, sbase.n)), key=lambda r: r.dbic)
+    accepted = next((r for r in refits if r.passes_fit_tests), None)
+    if accepted:
+        accepted.accepted = True
+    return Decision(refits, accepted, [], [], None)
+
+
+def _carry(res: FitResult, model: Model, smodel: Model) -> FitResult:
+    """The fit's result expressed in the screening model's parameter vector (new entries inactive)."""
+    x = model.extend(res.x, smodel)
+    active = np.zeros(smodel.layout.size, dtype=bool)
+    names = smodel.layout.names()
+    old = {n: k for k, n in enumerate(model.layout.names())}
+    for j, n in enumerate(names):
+        if n in old and res.active[old[n]]:
+            active[j] = True
+    se = np.full(smodel.layout.size, np.nan)
+    for j, n in enumerate(names):
+        if n in old:
+            se[j] = res.se[old[n]]
+    return FitResult(x, active, res.rows, res.r, res.J, res.chi2, res.n, res.p, res.cov, se, res.nfev, res.message,
+                     res.unsettled, res.failures)
+
+
+def verdict(cal: Calibration) -> tuple[list[str], bool]:
+    lines = []
+    for key, title, where, param, value, se, unit in cal.accepted:
+        lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g} {unit}")
+    for rnd in cal.rounds:
+        if rnd.decision.ambiguous:
+            best = rnd.decision.accepted or next((r for r in rnd.decision.refits if r.passes_fit_tests), None)
+            name = best.score.place.key if best else "?"
+            lines.append(f"round {rnd.index}: ambiguous between {name} and {', '.join(rnd.decision.ambiguous)}")
+            lines += [f"  to separate them: {s}" for s in rnd.decision.separation]
+    unexplained = False
+    if cal.final is not None:
+        reasons = cal.final.lof.significant()
+        if reasons:
+            unexplained = True
+            lines.append("unexplained discrepancy remains: " + "; ".join(reasons))
+        elif not cal.accepted:
+            lines.append("no effect found: the declared model fits to the noise")
+        else:
+            lines.append("the augmented model fits to the noise")
+    return lines, unexplained
+
+
+def augmented_header(exp: Experiment, cal: Calibration, netlist: Path) -> str:
+    found = "; ".join(f"{t} {w} ({p} = {v:.4g} +- {s:.2g} {u})" for _, t, w, p, v, s, u in cal.accepted)
+    return (f"Augmented by vphs calibrate from {netlist.name} for {Path(exp.file).name}.\n"
+            f"Added: {found}.\nThe original netlist is unchanged.")
+
+
+def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path, globals_: list[Free], acc,
+                               out: Path) -> Path:
+    """The experiment file for the augmented model: same data, the new netlist, the accepted parameters
+    free beside the declared ones, sensor corrections as found."""
+    import os
+
+    data = dict(exp.located.data)
+    target = out / "experiment_augmented.yaml"
+    base = Path(exp.file).resolve().parent
+
+    def rel(path: Path) -> str:
+        return os.path.relpath(Path(path).resolve(), target.parent.resolve())
+
+    data["netlist"] = rel(netlist)
+    data["data"] = rel(base / exp.spec.data)
+    if exp.spec.group_table is not None:
+        gt = dict(data["group_table"])
+        gt["file"] = rel(base / exp.spec.group_table.file)
+        data["group_table"] = gt
+    free = dict(data.get("free") or {})
+    corrections = dict(data.get("corrections") or {})
+    for g in globals_:
+        if g.kind == "candidate":
+            free[g.name] = {"initial": float(g.initial), "lower": float(g.lower), "upper": float(g.upper)}
+        elif g.kind == "correction":
+            what, ch = g.name.split(":", 1)
+            corrections.setdefault(ch, {})[what] = float(g.initial)
+    data["free"] = free
+    if corrections:
+        data["corrections"] = corrections
+    text = "# written by vphs calibrate: the experiment with the accepted effects\n" + yaml.safe_dump(
+        data, sort_keys=False, width=110)
+    atomic_write_text(target, text)
+    return target

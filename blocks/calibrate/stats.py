@@ -1,0 +1,164 @@
+"""Lack-of-fit statistics of a fit: per channel chi^2/nu and RMSE; for a time series the residuals'
+whiteness (Ljung-Box) and their cross-correlation with the inputs; for steady data the drift of a
+parameter that should be constant, refitted group by group.
+
+- chi^2/nu per channel: chi^2_c / (n_c * nu / n), the degrees of freedom nu = n - p shared out in
+  proportion to the channel's rows (the latent inputs' rows and parameters cancel in the count);
+  p-value of the whole chi^2 with nu degrees of freedom.
+- Ljung-Box: Q = n (n + 2) sum_{k=1..h} rho_k^2 / (n - k), h = min(20, n/5), against chi^2_h.
+- Cross-correlation of the residual with each measured input: rho(l) for |l| <= h samples, against the
+  99 % bound 2.58/sqrt(n) of white residuals (the input is not prewhitened: a strongly coloured input
+  widens the true bound; read it as a pointer, not a test).
+- Drift (steady, ``drift:`` parameters): the parameter refitted on each group alone (the other parameters
+  held at the global fit, the group's latent inputs free), with the homogeneity chi^2 =
+  sum_g (theta_g - theta_w)^2 / se_g^2 on G - 1 degrees of freedom (theta_w the inverse-variance mean)
+  and the spread max - min.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import stats as sps
+
+from blocks.calibrate.fit import FitResult, fit
+from blocks.calibrate.model import Model
+
+
+@dataclass
+class ChannelStats:
+    name: str
+    role: str
+    n: int
+    rmse: float  # SI
+    sigma: float  # SI
+    chi2: float
+    reduced: float  # chi2 / (n * nu / n_total)
+    ljung_box: float | None = None
+    ljung_box_p: float | None = None
+    xcorr_max: float | None = None
+    xcorr_lag: float | None = None
+    xcorr_bound: float | None = None
+
+
+@dataclass
+class LackOfFit:
+    chi2: float
+    n: int
+    p: int
+    nu: int
+    reduced: float
+    p_value: float
+    channels: list[ChannelStats] = field(default_factory=list)
+    drift: dict = field(default_factory=dict)
+
+    def significant(self, alpha: float = 1e-3) -> list[str]:
+        """Reasons the misfit is significant at level alpha (empty: consistent with the noise)."""
+        out = []
+        if self.p_value < alpha:
+            out.append(f"chi^2/nu = {self.reduced:.3g} (p = {self.p_value:.2g})")
+        for c in self.channels:
+            if c.ljung_box_p is not None and c.ljung_box_p < alpha and c.reduced > 1.25:
+                out.append(f"{c.name}: residuals not white (Ljung-Box p = {c.ljung_box_p:.2g})")
+        for name, d in self.drift.items():
+            if d.get("p_value") is not None and d["p_value"] < alpha:
+                out.append(f"{name} drifts between groups (p = {d['p_value']:.2g})")
+        return out
+
+
+def lack_of_fit(model: Model, res: FitResult) -> LackOfFit:
+    rows = res.rows
+    n_total = int(rows.sum())
+    nu = res.nu
+    chans = []
+    r = res.r
+    for ci, ch in enumerate(model.channels):
+        sel = rows & (model.row_channel == ci)
+        n_c = int(sel.sum())
+        if n_c == 0:
+            continue
+        chi2_c = float(np.sum(r[sel] ** 2))
+        sigma = model.sigma[ci]
+        share = n_c * nu / n_total
+        cs = ChannelStats(ch.name, ch.role, n_c, float(np.sqrt(np.mean((r[sel] * sigma) ** 2))), float(sigma),
+                          chi2_c, chi2_c / share if share > 0 else np.nan)
+        if model.data.kind == "time" and ch.role == "output":
+            e = r[sel]
+            cs.ljung_box, cs.ljung_box_p = ljung_box(e)
+            best, lag, bound = 0.0, 0.0, 2.58 / np.sqrt(n_c)
+            for inp in model.exp.inputs:
+                u = model.data.measured[inp.name][model.row_point[sel]]
+                rho, k = max_cross_correlation(e, u)
+                if abs(rho) > abs(best):
+                    best, lag = rho, k * float(np.median(np.diff(model.data.t)))
+            cs.xcorr_max, cs.xcorr_lag, cs.xcorr_bound = best, lag, bound
+        chans.append(cs)
+    return LackOfFit(res.chi2, n_total, res.p, nu, res.reduced, float(sps.chi2.sf(res.chi2, nu)), chans)
+
+
+def ljung_box(e: np.ndarray, h: int | None = None) -> tuple[float, float]:
+    n = e.size
+    h = h or max(1, min(20, n // 5))
+    e = e - e.mean()
+    denom = float(np.sum(e * e))
+    if denom == 0.0 or n < 3:
+        return 0.0, 1.0
+    q = 0.0
+    for k in range(1, h + 1):
+        rho = float(np.sum(e[k:] * e[:-k])) / denom
+        q += rho * rho / (n - k)
+    q *= n * (n + 2)
+    return q, float(sps.chi2.sf(q, h))
+
+
+def max_cross_correlation(e: np.ndarray, u: np.ndarray, h: int | None = None) -> tuple[float, int]:
+    n = e.size
+    h = h or max(1, min(20, n // 5))
+    a, b = e - e.mean(), u - u.mean()
+    sa, sb = np.sqrt(np.sum(a * a)), np.sqrt(np.sum(b * b))
+    if sa == 0 or sb == 0:
+        return 0.0, 0
+    best, lag = 0.0, 0
+    for k in range(-h, h + 1):
+        if k >= 0:
+            rho = np.sum(a[k:] * b[:n - k]) / (sa * sb)
+        else:
+            rho = np.sum(a[:n + k] * b[-k:]) / (sa * sb)
+        if abs(rho) > abs(best):
+            best, lag = float(rho), k
+    return best, lag
+
+
+def drift(model: Model, res: FitResult, names: list[str]) -> dict:
+    """Each ``names`` parameter refitted per group (steady data): estimates, SEs, spread, homogeneity test."""
+    out = {}
+    groups = model.data.groups
+    if model.data.kind != "steady" or len(groups) < 2:
+        return out
+    for name in names:
+        j = model.layout.index(name)
+        est, se, labels = [], [], []
+        for label, points in groups.items():
+            active = np.zeros(len(res.x), dtype=bool)
+            active[j] = True
+            for k in points:
+                for i in range(len(model.layout.inputs)):
+                    active[model.layout.latent_index(int(k), i)] = True
+            rows = model.rows_of_points(points)
+            g = fit(model, res.x, active, rows, max_nfev=30)
+            est.append(g.x[j])
+            se.append(g.se[j])
+            labels.append(label)
+        est, se = np.array(est), np.array(se)
+        ok = np.isfinite(se) & (se > 0)
+        entry = {"groups": labels, "estimates": est.tolist(), "se": se.tolist(),
+                 "spread": float(est.max() - est.min()), "global": float(res.x[j]), "global_se": float(res.se[j])}
+        if ok.sum() >= 2:
+            w = 1.0 / se[ok] ** 2
+            mean = float(np.sum(w * est[ok]) / np.sum(w))
+            chi2 = float(np.sum((est[ok] - mean) ** 2 * w))
+            entry.update({"weighted_mean": mean, "chi2": chi2, "dof": int(ok.sum() - 1),
+                          "p_value": float(sps.chi2.sf(chi2, ok.sum() - 1))})
+        out[name] = entry
+    return out

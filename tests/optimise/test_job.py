@@ -1,0 +1,109 @@
+"""Job files: the examples load; every mistake is one located line naming the file, line and column."""
+
+from pathlib import Path
+
+import pytest
+
+from blocks.errors import NetlistError
+from blocks.optimise.job import load_job
+
+ROOT = Path(__file__).resolve().parents[2]
+NETLIST = ROOT / "netlists" / "opt" / "drive_line.yaml"
+
+GOOD = f"""\
+netlist: {NETLIST}
+seed: 3
+parameters:
+  Kp: {{min: 1, max: 40, log: true}}
+  V_line: {{min: "0.5 l", max: "2 l"}}
+cost:
+  terms:
+    pos: {{kind: ise, signal: x, reference: x_ref, unit: mm, weight: 50}}
+    vib: {{kind: hp_ise, signal: pA, wn: "16 Hz", weight: 3e-8}}
+load_cases:
+  empty: {{m_load: "0 kg"}}
+  full: {{m_load: "15 t"}}
+algorithm: {{method: complex, max_evaluations: 50}}
+"""
+
+
+def write(tmp_path, text: str) -> Path:
+    path = tmp_path / "job.yaml"
+    path.write_text(text)
+    return path
+
+
+@pytest.mark.parametrize("name", ["drive_line_controller.yaml", "drive_line_load_cases.yaml"])
+def test_example_jobs_load(name):
+    job = load_job(ROOT / "netlists" / "jobs" / name)
+    assert job.free and job.terms and job.method == "complex" and job.sweep_points
+
+
+def test_values_in_units_are_converted_to_si(tmp_path):
+    job = load_job(write(tmp_path, GOOD))
+    v_line = next(p for p in job.free if p.name == "V_line")
+    assert (v_line.lower, v_line.upper) == pytest.approx((0.5e-3, 2e-3))
+    assert job.cases == [("empty", {"m_load": 0.0}), ("full", {"m_load": 15000.0})]
+    vib = next(t for t in job.terms if t.name == "vib")
+    assert vib.wn == pytest.approx(2 * 3.141592653589793 * 16)  # Hz is an angular frequency of 2*pi rad/s
+    pos = next(t for t in job.terms if t.name == "pos")
+    assert (pos.scale, pos.weight, pos.reference) == (1e-3, 50.0, "x_ref")
+    # normalised coordinates: log scaling maps z = 0.5 onto the geometric mean
+    values = job.values([0.5, 0.5])
+    assert values["Kp"] == pytest.approx(40 ** 0.5) and values["V_line"] == pytest.approx(1.25e-3)
+    assert job.coordinates(values) == pytest.approx([0.5, 0.5])
+
+
+@pytest.mark.parametrize("change,line,message", [
+    (("seed: 3", "sed: 3"), 2, "unknown key 'sed' (allowed: seed"),
+    (("  Kp: {min: 1", "  Kpp: {min: 1"), 4, "'Kpp' is not a parameter of"),
+    (("max: 40, log", "max: 0.5, log"), 4, "max (0.5) must be above min (1)"),
+    (("{min: 1, max: 40, log: true}", "{min: 0, max: 40, log: true}"), 4, "log scaling needs min > 0"),
+    (('min: "0.5 l"', 'min: "0.5 bar"'), 5, "parameters.V_line.min"),
+    (("signal: x,", "signal: xx,"), 8, "'xx' is not a logged signal"),
+    (("unit: mm,", "unit: bar,"), 8, "'bar' does not fit signal x"),
+    (("reference: x_ref", "reference: pA"), 8, "reference pA is in m^-1*kg*s^-2, signal x in m"),
+    (('wn: "16 Hz", ', ""), 9, "hp_ise needs wn"),
+    (("kind: ise", "kind: iae"), 8, "cost.terms.pos.kind"),
+    (("m_load: \"15 t\"", "m_load: \"15 bar\""), 12, "load_cases.full.m_load"),
+    (("m_load: \"15 t\"", "Kp: 3"), 12, "Kp is varied by the job"),
+    (("method: complex", "method: simplex"), 13, "unknown method 'simplex' (methods: complex, nelder_mead"),
+    (("max_evaluations: 50", "max_evaluations: 3"), 13, "fewer than the 4 points"),
+    (("max_evaluations: 50}", "max_evaluations: 50, alpah: 1.3}"), 13, "unknown key 'alpah' (allowed: alpha)"),
+    (("m_load: \"0 kg\"", "m_load: \"-1e6 kg\""), 11, "bridge: J = -3.61322 kg*m^2 is below its lower bound"),
+])
+def test_mistakes_are_located(tmp_path, change, line, message):
+    text = GOOD.replace(*change)
+    assert text != GOOD
+    path = write(tmp_path, text)
+    with pytest.raises(NetlistError) as info:
+        load_job(path)
+    error = info.value
+    assert message in str(error), str(error)
+    assert error.file == str(path) and error.line == line, str(error)
+    assert "\n" not in str(error)
+
+
+def test_out_of_netlist_bounds_and_missing_sections(tmp_path):
+    with pytest.raises(NetlistError, match=r"job.yaml:\d+:\d+: .*valve.Cd.*(above|below)"):
+        load_job(write(tmp_path, GOOD.replace("  Kp: {min: 1, max: 40, log: true}", "  valve.Cd: {min: 0.5, max: 2}")))
+    with pytest.raises(NetlistError, match="missing 'cost'"):
+        load_job(write(tmp_path, f"netlist: {NETLIST}\n"))
+    with pytest.raises(NetlistError, match="netlist: file not found"):
+        load_job(write(tmp_path, GOOD.replace(str(NETLIST), "nowhere.yaml")))
+    with pytest.raises(NetlistError, match="array parameter"):
+        load_job(write(tmp_path, GOOD.replace("  Kp: {min: 1, max: 40, log: true}", "  v_ref.times: {min: 0, max: 1}")))
+
+
+def test_sweep_grid_and_list(tmp_path):
+    text = GOOD + "sweep:\n  parameters:\n    Kp: [2, 4, 8]\n    Kv: {min: 0.2, max: 0.6, points: 3}\n"
+    job = load_job(write(tmp_path, text))
+    assert len(job.sweep_points) == 9 and job.sweep_names == ["Kp", "Kv"]
+    assert job.sweep_points[0] == {"Kp": 2.0, "Kv": 0.2} and job.sweep_points[1] == pytest.approx({"Kp": 2.0, "Kv": 0.4})
+    listed = load_job(write(tmp_path, text + "  combine: list\n"))
+    assert [p["Kp"] for p in listed.sweep_points] == [2.0, 4.0, 8.0]
+    assert [p["Kv"] for p in listed.sweep_points] == pytest.approx([0.2, 0.4, 0.6])
+    with pytest.raises(NetlistError, match="equally many"):
+        load_job(write(tmp_path, text.replace("points: 3", "points: 4") + "  combine: list\n"))
+    with pytest.raises(NetlistError, match="sweep.parameters"):
+        load_job(write(tmp_path, GOOD + "sweep:\n  parameters: {Kp: [1], Kv: [1], m_load: [1]}\n"))

@@ -1,0 +1,239 @@
+"""Jobs end to end: evaluations logged once each, failures recorded, parallel = serial, resume after
+Ctrl-C and after a kill, sweeps, reports, the CLI's exit codes."""
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+from collections import Counter
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from blocks.optimise.job import load_job
+from blocks.optimise.log import LOG_NAME, EvaluationLog, LogError, read_log
+from blocks.optimise.runner import run_optimise, run_sweep
+
+ROOT = Path(__file__).resolve().parents[2]
+HERE = Path(__file__).parent
+DRIVE_LINE = ROOT / "netlists" / "opt" / "drive_line.yaml"
+
+
+def job_file(tmp_path, text: str, name: str = "job.yaml") -> Path:
+    path = tmp_path / name
+    path.write_text(text)
+    return path
+
+
+def small_job(tmp_path, budget=24, candidates=2, cases=1, out="out", extra="") -> Path:
+    loads = "\n".join(f"  c{i}: {{m_load: \"{7.5 * i} t\"}}" for i in range(cases))
+    return job_file(tmp_path, f"""\
+name: small
+netlist: {DRIVE_LINE}
+output: {tmp_path / out}
+seed: 4
+parameters:
+  Kp: {{min: 1, max: 40, log: true}}
+  Kv: {{min: 0.1, max: 1.0}}
+cost:
+  terms:
+    pos: {{kind: ise, signal: x, reference: x_ref, unit: mm, weight: 50}}
+    vel: {{kind: ise, signal: v, reference: v_ref, unit: mm/s}}
+    max_pos: {{kind: max_abs, signal: x, reference: x_ref, unit: mm, weight: 0}}
+load_cases:
+{loads}
+algorithm: {{method: complex, max_evaluations: {budget}, tol_x: 0, tol_f: 0, candidates: {candidates}}}
+{extra}""")
+
+
+def evaluations(folder: Path) -> list[dict]:
+    return [json.loads(line) for line in (folder / LOG_NAME).read_text().splitlines()
+            if json.loads(line)["type"] == "evaluation"]
+
+
+def by_index(records):
+    return {r["index"]: (r["x"], r["cost"]) for r in records}
+
+
+def test_serial_job_logs_every_evaluation_once_and_reports(tmp_path):
+    job = load_job(small_job(tmp_path))
+    s = run_optimise(job, workers=1, quiet=True)
+    records = evaluations(job.output)
+    assert sorted(r["index"] for r in records) == list(range(24)) and s.evaluated == 24
+    best = min(records, key=lambda r: r["cost"])
+    assert s.best["index"] == best["index"] and s.best["cost"] == best["cost"]
+    for name in ("report.md", "convergence.png", "best_signals.png", "best.json", "best_c0.csv"):
+        assert (job.output / name).stat().st_size > 0, name
+    report = (job.output / "report.md").read_text()
+    assert f"cost {best['cost']:.6g}" in report and "| Kp |" in report
+    saved = json.loads((job.output / "best.json").read_text())
+    assert saved["parameters"] == best["parameters"]
+    # a record's cost is the weighted sum of its terms
+    r = records[5]
+    terms = r["cases"]["c0"]["terms"]
+    assert r["cost"] == pytest.approx(50 * terms["pos"] + terms["vel"], rel=1e-12)
+    # the logged parameters are the design's SI values: re-simulating them gives the logged cost
+    from blocks.circuit import Circuit
+
+    res = Circuit.from_file(DRIVE_LINE).simulate({**r["parameters"], "m_load": 0.0})
+    e = (res["x"] - res["x_ref"]) / 1e-3
+    assert terms["pos"] == pytest.approx(float(np.sum((e[1:] ** 2 + e[:-1] ** 2) / 2 * np.diff(res.t))), rel=1e-9)
+
+
+def test_local_pool_gives_the_same_evaluations_as_serial(tmp_path):
+    serial = load_job(small_job(tmp_path, out="serial"))
+    pool = load_job(small_job(tmp_path, out="pool"))
+    run_optimise(serial, workers=1, quiet=True, report=False)
+    s = run_optimise(pool, workers=2, quiet=True, report=False)
+    assert s.executor == "local" and s.workers == 2
+    a, b = evaluations(serial.output), evaluations(pool.output)
+    assert by_index(a) == by_index(b)
+    assert len({r["pid"] for r in b}) == 2 and os.getpid() not in {r["pid"] for r in b}
+
+
+def test_failed_simulations_are_recorded_with_a_penalty_and_the_job_goes_on(tmp_path):
+    # growth.yaml: y' = k*y. k > ~709 overflows (SimulationError); 354 < k < 709 overflows int y^2 dt;
+    # below, int y^2 dt = (exp(2k) - 1)/(2k) reaches 1e305, so the penalty must be above that.
+    path = job_file(tmp_path, f"""\
+netlist: {HERE / 'netlists' / 'growth.yaml'}
+output: {tmp_path / 'out'}
+parameters: {{k: {{min: 0.1, max: 1000}}}}
+cost: {{penalty: 1e308, terms: {{y: {{kind: ise, signal: y}}}}}}
+algorithm: {{method: complex, max_evaluations: 60, points: 6}}
+sweep: {{parameters: {{k: [1, 500, 1000, 2]}}}}
+""")
+    job = load_job(path)
+    s = run_sweep(job, workers=1, quiet=True)
+    records = evaluations(job.output / "sweep")
+    status = {r["parameters"]["k"]: (r["status"], r["cost"], r["error"]) for r in records}
+    # int_0^1 exp(2t) dt = (e^2 - 1)/2; the trapezoid over 10 ms samples is high by (2*dt)^2/12 = 3.3e-5
+    assert status[1.0][0] == "ok" and status[1.0][1] == pytest.approx((np.exp(2.0) - 1) / 2 * (1 + 3.3e-5), rel=1e-5)
+    assert status[500.0][:2] == ("failed", 1e308) and "not finite" in status[500.0][2]
+    assert status[1000.0][:2] == ("failed", 1e308) and "the solver failed" in status[1000.0][2]
+    assert status[2.0][0] == "ok" and s.failed == 2
+    report = (job.output / "sweep" / "report.md").read_text()
+    assert "Failed points (2)" in report and "the solver failed" in report
+    # and an optimisation over the same range goes on through its failures to the optimum at the lower bound
+    s = run_optimise(job, workers=1, quiet=True)
+    assert s.failed > 0 and s.reason in ("budget", "parameters converged", "cost converged")
+    assert s.best["status"] == "ok" and s.best["parameters"]["k"] == pytest.approx(0.1, rel=1e-2)
+
+
+def test_a_refused_parameter_value_is_a_failed_evaluation():
+    from blocks.optimise.evaluate import evaluate_design
+
+    job = load_job(ROOT / "netlists" / "jobs" / "drive_line_controller.yaml")
+    record = evaluate_design(job.spec(), {"valve.Cd": -1.0})
+    assert record["status"] == "failed" and record["cost"] == job.penalty and "Cd" in record["error"]
+
+
+def test_sweep_grid_points_and_table(tmp_path):
+    extra = "sweep:\n  parameters:\n    Kp: [2, 8]\n    Kv: {min: 0.2, max: 0.6, points: 3}\n"
+    job = load_job(small_job(tmp_path, extra=extra))
+    s = run_sweep(job, workers=2, quiet=True)
+    records = evaluations(job.output / "sweep")
+    asked = sorted((r["parameters"]["Kp"], round(r["parameters"]["Kv"], 12)) for r in records)
+    assert asked == [(2.0, 0.2), (2.0, 0.4), (2.0, 0.6), (8.0, 0.2), (8.0, 0.4), (8.0, 0.6)]
+    table = (job.output / "sweep" / "sweep.csv").read_text().splitlines()
+    assert table[0].startswith("Kp,Kv,pos [(mm)^2*s]") and len(table) == 7
+    assert (job.output / "sweep" / "sweep.png").stat().st_size > 0
+    assert s.best["cost"] == min(r["cost"] for r in records)
+
+
+def test_a_log_is_never_overwritten_or_resumed_by_another_job(tmp_path):
+    job = load_job(small_job(tmp_path, budget=8))
+    run_optimise(job, workers=1, quiet=True, report=False)
+    before = (job.output / LOG_NAME).read_bytes()
+    with pytest.raises(LogError, match="--resume"):
+        run_optimise(job, workers=1, quiet=True)
+    other = load_job(small_job(tmp_path, budget=9))  # another budget: another job
+    with pytest.raises(LogError, match="different job"):
+        run_optimise(other, resume=True, workers=1, quiet=True)
+    assert (job.output / LOG_NAME).read_bytes() == before
+    # resuming the finished job evaluates nothing and reproduces its result
+    s = run_optimise(job, resume=True, workers=1, quiet=True, report=False)
+    assert s.evaluated == 0 and s.replayed == 8
+    assert (job.output / LOG_NAME).read_bytes() == before
+
+
+def test_a_line_cut_short_by_a_kill_is_dropped(tmp_path):
+    job = load_job(small_job(tmp_path, budget=10))
+    run_optimise(job, workers=1, quiet=True, report=False)
+    log = job.output / LOG_NAME
+    lines = log.read_text().splitlines(keepends=True)
+    log.write_text("".join(lines[:-2]) + lines[-2][:40])  # the last evaluation lost, the one before torn
+    s = run_optimise(job, resume=True, workers=1, quiet=True, report=False)
+    assert (s.replayed, s.evaluated) == (8, 2)
+    header, records = read_log(job.output)
+    assert [r["index"] for r in records] == list(range(10))
+    assert all(line.startswith("{") and line.endswith("}") for line in log.read_text().splitlines())
+
+
+def _start(args, tmp_path):
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    return subprocess.Popen([sys.executable, "-c", "import sys, cli; sys.exit(cli.main(sys.argv[1:]))", *args],
+                            cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
+                            start_new_session=True, text=True)
+
+
+def _wait_for_lines(process, log: Path, lines: int, timeout: float = 60.0) -> int:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        count = len(log.read_bytes().splitlines()) if log.exists() else 0
+        if count >= lines:
+            return count
+        assert process.poll() is None, process.communicate()
+        time.sleep(0.01)
+    raise AssertionError(f"the job wrote fewer than {lines} lines in {timeout} s")
+
+
+def test_interrupt_kill_and_resume_lose_nothing_and_repeat_nothing(tmp_path):
+    """Ctrl-C (SIGINT to the job's process group) at >= 40 evaluations, resume, SIGKILL of the job's
+    process alone at >= 95, resume to the end: the log holds every evaluation once, and they are the
+    evaluations of the same job run without interruption."""
+    path = small_job(tmp_path, budget=150, cases=3, out="interrupted")
+    log = tmp_path / "interrupted" / LOG_NAME
+    p = _start(["optimise", str(path), "--workers", "2"], tmp_path)
+    _wait_for_lines(p, log, 41)
+    os.killpg(p.pid, signal.SIGINT)
+    out, err = p.communicate(timeout=60)
+    assert p.returncode == 130, err
+    assert "interrupted" in err and "--resume" in err
+    first = evaluations(log.parent)
+    assert 40 <= len(first) < 150
+
+    p = _start(["optimise", str(path), "--workers", "2", "--resume"], tmp_path)
+    _wait_for_lines(p, log, 96)
+    os.kill(p.pid, signal.SIGKILL)  # the job's process only: its workers must notice and end
+    p.communicate(timeout=60)
+    second = evaluations(log.parent)
+    assert 95 <= len(second) < 150
+
+    p = _start(["optimise", str(path), "--workers", "2", "--resume", "-q"], tmp_path)
+    out, err = p.communicate(timeout=120)
+    assert p.returncode == 0, err
+    final = evaluations(log.parent)
+    counts = Counter(r["index"] for r in final)
+    assert sorted(counts) == list(range(150)) and max(counts.values()) == 1
+    kept = by_index(second)
+    assert {i: v for i, v in by_index(final).items() if i in kept} == kept  # nothing re-evaluated
+
+    reference = load_job(small_job(tmp_path, budget=150, cases=3, out="reference"))
+    run_optimise(reference, workers=1, quiet=True, report=False)
+    assert by_index(evaluations(reference.output)) == by_index(final)
+    assert (log.parent / "report.md").exists()
+
+
+def test_cli_bad_job_is_one_line_exit_2(tmp_path, capsys):
+    import cli
+
+    path = job_file(tmp_path, f"netlist: {DRIVE_LINE}\ncost: {{terms: {{a: {{kind: ise, signal: nope}}}}}}\n")
+    assert cli.main(["optimise", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"vphs: {path}:2:") and "'nope' is not a logged signal" in err and "\n" not in err
+    assert cli.main(["optimise", str(path), "--workers", "0"]) == 2
+    assert cli.main(["sweep", str(small_job(tmp_path))]) == 2  # no sweep: section
+    assert "no sweep: section" in capsys.readouterr().err
