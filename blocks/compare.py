@@ -231,27 +231,30 @@ def resolve(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
 
 
 def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | None = None) -> Comparison:
-    """Interpolate the simulated curves onto the reference's x points and measure the errors."""
+    """Interpolate the simulated curves onto the reference's x points and measure the errors.
+
+    When both files have the same grouping column (e.g. ``setting``), each reference point is compared
+    with the simulated curve of its own group (steady operating points of several experiments)."""
     (x_sim, x_ref), pairs, skipped = resolve(simulated, reference, x, ys)
-    xs = simulated.columns[x_sim]
-    _check_increasing(simulated, x_sim)
     x_unit = reference.units[x_ref]
     xr = reference.columns[x_ref]
     missing = np.flatnonzero(np.isnan(xr))
     if missing.size:
         raise reference.error("empty cell: every reference point needs its x", x_ref, int(missing[0]))
-    span = xs[-1] - xs[0]
-    low, high = xs[0] - EDGE_TOLERANCE * span, xs[-1] + EDGE_TOLERANCE * span
-    outside = np.flatnonzero((xr < low) | (xr > high))
-    if outside.size:
-        k = int(outside[0])
-        f = parse_unit(x_unit).factor
-        raise reference.error(f"{x_ref} = {xr[k] / f:g} {x_unit} is outside the simulated range "
-                              f"{xs[0] / f:g} .. {xs[-1] / f:g} {x_unit} ({simulated.file}); no extrapolation",
-                              x_ref, k)
-    xr = np.clip(xr, xs[0], xs[-1])
+    segments = _segments(simulated, reference, x_sim)
+    ref_groups = reference.labels if _grouped(simulated, reference) else [None] * len(xr)
+    for k in range(len(xr)):
+        xs = simulated.columns[x_sim][segments[ref_groups[k]]]
+        span = xs[-1] - xs[0]
+        if not (xs[0] - EDGE_TOLERANCE * span <= xr[k] <= xs[-1] + EDGE_TOLERANCE * span):
+            f = parse_unit(x_unit).factor
+            where = f" (group {ref_groups[k]})" if ref_groups[k] is not None else ""
+            raise reference.error(f"{x_ref} = {xr[k] / f:g} {x_unit} is outside the simulated range "
+                                  f"{xs[0] / f:g} .. {xs[-1] / f:g} {x_unit}{where} ({simulated.file}); "
+                                  f"no extrapolation", x_ref, k)
 
     curves, stats = [], []
+    fx = parse_unit(x_unit).factor
     for sim, ref in pairs:
         ys_si = simulated.columns[sim]
         bad = np.flatnonzero(np.isnan(ys_si))
@@ -262,10 +265,15 @@ def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
         used = np.flatnonzero(~np.isnan(reference.columns[ref]))
         if used.size == 0:
             raise reference.error("no values to compare (every cell is empty)", ref)
+        at_ref = np.empty(used.size)
+        for j, k in enumerate(used):
+            rows = segments[ref_groups[k]]
+            xs = simulated.columns[x_sim][rows]
+            at_ref[j] = np.interp(np.clip(xr[k], xs[0], xs[-1]), xs, ys_si[rows])
         labels = [reference.labels[k] for k in used] if reference.labels is not None else None
-        curve = CurveData(sim=sim, ref=ref, unit=unit, x_sim=xs / parse_unit(x_unit).factor, y_sim=ys_si / f,
-                          x_ref=xr[used] / parse_unit(x_unit).factor, y_ref=reference.columns[ref][used] / f,
-                          y_at_ref=np.interp(xr[used], xs, ys_si) / f, labels=labels)
+        curve = CurveData(sim=sim, ref=ref, unit=unit, x_sim=simulated.columns[x_sim] / fx, y_sim=ys_si / f,
+                          x_ref=xr[used] / fx, y_ref=reference.columns[ref][used] / f, y_at_ref=at_ref / f,
+                          labels=labels)
         curves.append(curve)
         stats.append(_stats(curve, np.arange(used.size), "all"))
         if labels is not None:
@@ -273,6 +281,28 @@ def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
                 stats.append(_stats(curve, idx, label))
     return Comparison(simulated=simulated.file, reference=reference.file, x_sim=x_sim, x_ref=x_ref, x_unit=x_unit,
                       curves=curves, stats=stats, skipped=skipped)
+
+
+def _grouped(simulated: Table, reference: Table) -> bool:
+    return simulated.group is not None and simulated.group == reference.group
+
+
+def _segments(simulated: Table, reference: Table, x_sim: str) -> dict:
+    """Simulated row indices (sorted by x) per group label, or all rows under the key None."""
+    if not _grouped(simulated, reference):
+        _check_increasing(simulated, x_sim)
+        return {None: np.arange(len(simulated.columns[x_sim]))}
+    segments = {}
+    for label, rows in simulated.groups.items():
+        rows = np.asarray(rows)
+        order = rows[np.argsort(simulated.columns[x_sim][rows], kind="stable")]
+        _check_increasing(simulated, x_sim, order)
+        segments[label] = order
+    for k, label in enumerate(reference.labels):
+        if label not in segments:
+            raise reference.error(f"group {reference.group} = {label} has no simulated points "
+                                  f"(simulated groups: {', '.join(map(str, segments))})", reference.group, k)
+    return segments
 
 
 def _stats(curve: CurveData, idx: np.ndarray, group: str) -> CurveStats:
@@ -283,13 +313,16 @@ def _stats(curve: CurveData, idx: np.ndarray, group: str) -> CurveStats:
                       x_at_max=float(curve.x_ref[idx][k]))
 
 
-def _check_increasing(table: Table, name: str) -> None:
-    x = table.columns[name]
+def _check_increasing(table: Table, name: str, rows: np.ndarray | None = None) -> None:
+    """The simulated x (over ``rows``, default all) must be strictly increasing; errors name the file row."""
+    rows = np.arange(len(table.columns[name])) if rows is None else rows
+    x = table.columns[name][rows]
     bad = np.flatnonzero(np.isnan(x))
     if bad.size:
-        raise table.error("missing value (empty or NaN) in the simulated x", name, int(bad[0]))
+        raise table.error("missing value (empty or NaN) in the simulated x", name, int(rows[bad[0]]))
     if x.size < 2:
-        raise table.error("the simulated curve needs at least two points", name)
+        raise table.error("the simulated curve needs at least two points" + (" per group" if len(rows) < len(
+            table.columns[name]) else ""), name, int(rows[0]) if len(rows) else None)
     step = np.diff(x)
     bad = np.flatnonzero(step <= 0)
     if bad.size:
@@ -297,7 +330,7 @@ def _check_increasing(table: Table, name: str) -> None:
         f = parse_unit(table.units[name]).factor
         what = "repeated" if step[k - 1] == 0 else "decreasing"
         raise table.error(f"x must be strictly increasing in the simulated curve: {x[k] / f:g} after "
-                          f"{x[k - 1] / f:g} ({what})", name, k)
+                          f"{x[k - 1] / f:g} ({what})", name, int(rows[k]))
 
 
 # ---- the simulated side ---------------------------------------------------------------------------------

@@ -128,7 +128,17 @@ class DaskExecutor:
 
             raise VphsError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
         self.workers = max(1, sum(self.client.nthreads().values()))
-        self.spec_future = self.client.scatter(spec, broadcast=True)
+        try:  # each worker loads the circuit now (once), and a netlist the workers cannot read is said now
+            self.client.run(warm_up, spec)
+        except Exception as exc:
+            if self.own_client:
+                self.client.close()
+            from blocks.errors import VphsError
+
+            raise VphsError(f"a Dask worker could not load {spec.netlist}: {type(exc).__name__}: {exc} "
+                            f"(the workers need the netlist at the same path)") from None
+        # hash=False: a key of its own, so that releasing another job's copy of the same spec cannot cancel ours
+        self.spec_future = self.client.scatter(spec, broadcast=True, hash=False)
 
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         from distributed import as_completed
@@ -136,7 +146,12 @@ class DaskExecutor:
         futures = [self.client.submit(evaluate_design, self.spec_future, design, pure=False) for design in designs]
         index = {future.key: i for i, future in enumerate(futures)}
         try:
-            for future, record in as_completed(futures, with_results=True):
+            for future in as_completed(futures):
+                try:
+                    record = future.result()
+                except Exception as exc:  # the cluster lost the task (a worker died, ...): a failed evaluation
+                    record = {"status": "failed", "cost": self.spec.penalty, "cases": {}, "warnings": [],
+                              "error": f"dask: {type(exc).__name__}: {exc}", "seconds": 0.0, "pid": None}
                 yield index[future.key], record
         finally:
             for future in futures:

@@ -342,3 +342,36 @@ def test_shared_measurement_file_reads(tmp_path):
     table = read_table(path)
     assert table.group == "setting" and set(table.units) == {"p1", "p2", "p3", "Q"}
     assert np.all(np.isfinite(table.columns["Q"])) and table.columns["Q"].max() < 0.01  # m^3/s, not l/min
+
+
+def test_grouped_points_are_compared_within_their_own_group(tmp_path):
+    """Steady points of several settings: each reference point is interpolated on its own setting's curve.
+
+    Setting a: y = 2x; setting b: y = 10x (simulated); the reference points lie exactly on each, except one
+    that is 1 off, so only that group has an error, and ungrouped interpolation would be wrong by ~8x."""
+    from blocks.compare import compare
+    from blocks.datafile import read_table
+
+    sim = tmp_path / "sim.csv"
+    sim.write_text("setting,x [m],y [bar]\na,0,0\na,1,2\na,2,4\nb,0,0\nb,1,10\nb,2,20\n")
+    ref = tmp_path / "ref.csv"
+    ref.write_text("setting,x [m],y [bar]\na,0.5,1\na,1.5,3\nb,0.5,5\nb,1.5,16\n")
+    result = compare(read_table(sim), read_table(ref), x="x", ys=["y"])
+    by_group = {s.group: s for s in result.stats}
+    assert by_group["a"].max_abs == pytest.approx(0.0, abs=1e-12)
+    assert by_group["b"].max_abs == pytest.approx(1.0) and by_group["b"].x_at_max == pytest.approx(1.5)
+    assert by_group["all"].rmse == pytest.approx(math.sqrt(1.0 / 4))
+
+
+def test_a_reference_group_without_simulated_points_is_an_error(tmp_path):
+    from blocks.compare import compare
+    from blocks.datafile import read_table
+    from blocks.errors import VphsError
+
+    sim = tmp_path / "sim.csv"
+    sim.write_text("setting,x [m],y [bar]\na,0,0\na,1,2\n")
+    ref = tmp_path / "ref.csv"
+    ref.write_text("setting,x [m],y [bar]\na,0.5,1\nc,0.5,3\n")
+    with pytest.raises(VphsError) as info:
+        compare(read_table(sim), read_table(ref), x="x", ys=["y"])
+    assert "group setting = c has no simulated points" in str(info.value) and "ref.csv:3" in str(info.value)

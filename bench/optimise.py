@@ -1,0 +1,144 @@
+"""Benchmark: a 300-evaluation Complex job on the bridge-travel drive line, 1 worker against every core.
+
+    python bench/optimise.py [--repeats 3] [--evaluations 300]
+
+The job is netlists/jobs/drive_line_controller.yaml (3 s of the drive line per evaluation, netlists/opt/)
+with its stops switched off so that exactly N evaluations run. Printed, all measured in this one run:
+
+1. Per evaluation: Circuit.simulate (and the solver's part of it), the cost terms, the log's
+   append + fsync.
+2. The same job -- the same N designs, since ``candidates`` is fixed at the number of cores, so the
+   batching does not depend on the workers -- with 1 worker (in this process) and with every core (a
+   local process pool): the job's wall time (executor start and the evaluations; the report is not
+   included), evaluations per second, the speed-up.
+3. What the parallelism buys the Complex method: with ``candidates = 1`` (one evaluation at a time, the
+   method as stated) and with ``candidates = cores`` (the reflection and the next retractions at once,
+   Complex-RFP task prediction; same path of the complex) the iterations reached within the same N
+   evaluations and the wall time per iteration. Speculative candidates that were not needed count
+   against the budget, so the speed-up in iterations per second is below the one in evaluations.
+Repeats alternate the configurations and the median is printed (the machine may be shared).
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+import shutil
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+
+from blocks.optimise.costs import evaluate_term  # noqa: E402
+from blocks.optimise.evaluate import case_overrides, circuit_for  # noqa: E402
+from blocks.optimise.executors import cores  # noqa: E402
+from blocks.optimise.job import load_job  # noqa: E402
+from blocks.optimise.log import EvaluationLog  # noqa: E402
+from blocks.optimise.runner import run_optimise  # noqa: E402
+
+JOB = ROOT / "netlists" / "jobs" / "drive_line_controller.yaml"
+
+
+def per_evaluation(job, n: int = 100) -> dict:
+    spec = job.spec()
+    circuit = circuit_for(job.netlist)
+    case = spec.cases[0]
+    design = job.values([0.5] * len(job.free))
+    overrides = case_overrides(spec, design, case)
+    circuit.simulate(overrides)
+    sim, solver, cost = [], [], []
+    for _ in range(n):
+        t0 = time.perf_counter()
+        r = circuit.simulate(overrides)
+        t1 = time.perf_counter()
+        for term in spec.terms:
+            evaluate_term(term, r.t, r)
+        t2 = time.perf_counter()
+        sim.append(t1 - t0), solver.append(r.seconds), cost.append(t2 - t1)
+    with tempfile.TemporaryDirectory() as tmp:
+        log = EvaluationLog(Path(tmp), {"type": "job", "fingerprint": "bench"})
+        record = {"type": "evaluation", "index": 0, "x": [0.5] * 3, "parameters": design, "cost": 1.0,
+                  "status": "ok", "cases": {"c": {"terms": {"a": 1.0, "b": 2.0}, "cost": 3.0}}}
+        t0 = time.perf_counter()
+        for i in range(n):
+            log.append({**record, "index": i})
+        fsync = (time.perf_counter() - t0) / n
+        log.close()
+    return {"simulate": statistics.median(sim), "solver": statistics.median(solver),
+            "cost": statistics.median(cost), "log": fsync, "steps": r.stats["steps"]}
+
+
+def run(job, workers: int, candidates: int, evaluations: int, folder: Path):
+    job = dataclasses.replace(job, output=folder, settings=dataclasses.replace(
+        job.settings, max_evaluations=evaluations, tol_x=0.0, tol_f=0.0, candidates=candidates))
+    shutil.rmtree(folder, ignore_errors=True)
+    t0 = time.perf_counter()
+    s = run_optimise(job, workers=workers, quiet=True, report=False)
+    wall = time.perf_counter() - t0
+    assert s.total == evaluations, s.total
+    return wall, s
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--evaluations", type=int, default=300)
+    args = parser.parse_args()
+    n, p = args.evaluations, cores()
+    job = load_job(JOB)
+    print(f"machine: {p} cores, load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} (before)")
+    e = per_evaluation(job)
+    print(f"one evaluation of the 3 s drive line ({e['steps']} steps): simulate {e['simulate'] * 1e3:.2f} ms "
+          f"(solver {e['solver'] * 1e3:.2f} ms, the rest Python in Circuit.simulate), cost terms "
+          f"{e['cost'] * 1e3:.2f} ms, log append+fsync {e['log'] * 1e3:.2f} ms")
+
+    tmp = Path(tempfile.mkdtemp(prefix="vphs-bench-"))
+    try:
+        walls = {1: [], p: []}
+        phases = {1: [], p: []}
+        iters = {1: [], p: []}
+        for _ in range(args.repeats):
+            for workers in (1, p):
+                wall, s = run(job, workers, p, n, tmp / f"w{workers}")
+                walls[workers].append(wall)
+                phases[workers].append(s.seconds)
+        same = None
+        print(f"\n{n}-evaluation Complex job, candidates = {p} (the same {n} designs for both):")
+        for workers in (1, p):
+            w, ph = statistics.median(walls[workers]), statistics.median(phases[workers])
+            print(f"  {workers} worker{'s' if workers > 1 else ' '}: wall {w:6.2f} s (evaluations {ph:5.2f} s), "
+                  f"{n / w:6.1f} evaluations/s over the wall time, {n / ph:6.1f} over the evaluations")
+        w1, wp = statistics.median(walls[1]), statistics.median(walls[p])
+        ph1, php = statistics.median(phases[1]), statistics.median(phases[p])
+        print(f"  speed-up with {p} workers: {w1 / wp:.2f}x over the wall time, {ph1 / php:.2f}x over the evaluations "
+              f"(target >= 1.8x); {n / wp:.1f} evaluations/s (target >= 30)")
+
+        for _ in range(args.repeats):
+            for workers, c in ((1, 1), (p, p)):
+                wall, s = run(job, workers, c, n, tmp / f"c{c}")
+                iters[workers].append((wall, s.seconds, s.iterations, s.best["cost"]))
+        print(f"\nwhat the batching buys the method (same seed, {n} evaluations each):")
+        rows = {}
+        for workers, c in ((1, 1), (p, p)):
+            wall = statistics.median(x[0] for x in iters[workers])
+            phase = statistics.median(x[1] for x in iters[workers])
+            it, best = iters[workers][0][2], iters[workers][0][3]
+            rows[workers] = (wall, phase, it)
+            print(f"  candidates {c}, {workers} worker{'s' if workers > 1 else ' '}: {it:4d} iterations, "
+                  f"best cost {best:.6g}, wall {wall:5.2f} s, {1e3 * phase / it:5.2f} ms per iteration")
+        (w1, ph1, it1), (wp, php, itp) = rows[1], rows[p]
+        print(f"  iterations per second: {it1 / ph1:.1f} (one at a time) -> {itp / php:.1f} ({p} candidates on {p} "
+              f"workers): {(itp / php) / (it1 / ph1):.2f}x; evaluations per iteration {n / it1:.2f} -> {n / itp:.2f}")
+        print(f"\nmachine load average after: {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
+    finally:
+        shutil.rmtree(tmp, ignore_errors=True)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
