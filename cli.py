@@ -101,6 +101,12 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("vphs: interrupted; nothing half-written was left behind", file=sys.stderr)
         return 130
+    except BrokenPipeError:  # `vphs blocks | head`: the reader left; not an error of ours
+        try:
+            sys.stdout = open(os.devnull, "w")
+        except OSError:
+            pass
+        return 0
     except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
         if os.environ.get("VPHS_DEBUG"):
             raise
@@ -139,20 +145,42 @@ def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
             raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
                                 + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
         entry = entries[name]
-        unit = entry.unit
+        if getattr(entry.bounds, "array", False) or entry.elements is not None or isinstance(entry.constant, tuple):
+            raise ArgumentError(f"vphs: --set '{pair}': {name} is an array (a table); change it in the netlist")
         try:
-            if unit is None:
-                number, unit_text = split_quantity(raw)
-                overrides[name] = number * parse_unit(unit_text).factor
+            number, unit_text = split_quantity(raw)
+            if entry.unit is None:  # a netlist parameter: its written unit, if it has one, fixes the dimension
+                given = parse_unit(unit_text)
+                if unit_text and entry.dims is not None and not given.same_dimension(entry.dims):
+                    raise UnitError(f"wrong unit '{unit_text}': {name} is in {entry.dims.describe_dims()}")
+                overrides[name] = number * given.factor
             else:
-                overrides[name] = quantity(raw if not _is_number(raw) else float(raw), unit)
+                overrides[name] = quantity(raw if not _is_number(raw) else float(raw), entry.unit)
         except UnitError as exc:
             raise ArgumentError(f"vphs: --set '{pair}': {exc}") from None
-        if entry.bounds is not None and not getattr(entry.bounds, "array", False):
+        if entry.bounds is not None:
             problem = entry.bounds.check(overrides[name])
             if problem:
                 raise ArgumentError(f"vphs: --set '{pair}': {problem}")
     return overrides
+
+
+PLOT_SUFFIXES = (".png", ".pdf", ".svg")
+
+
+def check_output_paths(csv_path: str | None, plot_path: str | None) -> None:
+    """Before any work: each output names a file in a folder that exists (or can be made), plots a format."""
+    for target in (csv_path, plot_path):
+        if not target:
+            continue
+        path = Path(target)
+        if path.is_dir():
+            raise ArgumentError(f"vphs: output '{target}' is a folder; give a file name")
+        parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
+        if not parent.is_dir() or not os.access(parent, os.W_OK):
+            raise ArgumentError(f"vphs: cannot write '{target}': {parent} is not a writable folder")
+    if plot_path and Path(plot_path).suffix.lower() not in PLOT_SUFFIXES:
+        raise ArgumentError(f"vphs: --plot '{plot_path}': give a file ending in {', '.join(PLOT_SUFFIXES)}")
 
 
 def _is_number(text: str) -> bool:
@@ -167,25 +195,22 @@ def cmd_run(args) -> int:
     from blocks.circuit import Circuit
     from blocks.units import UnitError, quantity
 
-    for target in (args.output, args.plot):
-        if target and Path(target).is_dir():
-            raise ArgumentError(f"vphs: output '{target}' is a folder; give a file name")
+    check_output_paths(args.output, args.plot)
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
     overrides = parse_overrides(args.set, circuit)  # checked before the (possibly slow) compilation
     circuit.vectors(overrides)
-    circuit.compile(quiet=args.quiet)
     settings = circuit.settings
     if args.solver:
-        if args.solver == "fixed" and not settings.fixed_step:
-            raise ArgumentError("vphs: --solver fixed needs simulation.fixed_step in the netlist")
         settings = settings.with_(solver=args.solver)
     if args.t_end:
         try:
             settings = settings.with_(t_end=quantity(args.t_end if not _is_number(args.t_end) else float(args.t_end), "s"))
         except UnitError as exc:
             raise ArgumentError(f"vphs: --t-end: {exc}") from None
-        if settings.t_end <= settings.t_start:
-            raise ArgumentError("vphs: --t-end must be after the start time")
+    problem = settings.problem()
+    if problem:
+        raise ArgumentError(f"vphs: simulation.{problem[0]} (with --solver/--t-end): {problem[1]}")
+    circuit.compile(quiet=args.quiet)
     try:
         # always in slices (results do not depend on -q); progress shows only for runs longer than 1 s
         result = circuit.simulate(overrides, settings, progress=_progress_printer(silent=args.quiet))
@@ -243,8 +268,9 @@ def cmd_graph(args) -> int:
     from blocks.graph import draw_circuit
     from blocks.netlist.flatten import flatten
 
-    flat = flatten(args.netlist)
     output = args.output or str(Path(args.netlist).with_suffix(".png"))
+    check_output_paths(None, output)
+    flat = flatten(args.netlist)
     draw_circuit(flat, output)
     print(f"vphs: wrote {output}", file=sys.stderr)
     return 0
@@ -294,6 +320,7 @@ def cmd_diff(args) -> int:
 def cmd_docs(args) -> int:
     from blocks.docs import write_reference
 
+    check_output_paths(args.output, None)
     write_reference(args.output)
     print(f"vphs: wrote {args.output}", file=sys.stderr)
     return 0

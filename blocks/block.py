@@ -73,7 +73,7 @@ class Port:
     kind: PortKind
     description: str
     direction: str | None = None
-    unit: str = "1"
+    unit: str = "SI"  # a signal's unit; "SI" = generic (any dimension, in SI), "1" = dimensionless
     stores: bool = False
     optional: bool = False
     """An optional signal input reads 0 when nothing is connected."""
@@ -88,11 +88,11 @@ class Port:
         return self.unit if not self.physical else ACROSS[self.kind][1]
 
 
-def signal_in(name: str, description: str, unit: str = "1", optional: bool = False) -> Port:
+def signal_in(name: str, description: str, unit: str = "SI", optional: bool = False) -> Port:
     return Port(name, PortKind.SIGNAL, description, "in", unit, optional=optional)
 
 
-def signal_out(name: str, description: str, unit: str = "1") -> Port:
+def signal_out(name: str, description: str, unit: str = "SI") -> Port:
     return Port(name, PortKind.SIGNAL, description, "out", unit)
 
 
@@ -298,9 +298,13 @@ def check_declarations(cls: type[Block]) -> None:
         fn = getattr(cls, fn_name)
         if fn is None:
             continue
+        outputs = {p.name for p in cls.signal_outputs()}
         for arg in argument_names(fn):
             if arg not in declared.names:
                 raise TypeError(f"{owner}.{fn_name}: argument '{arg}' is not a declared port, parameter or state")
+            if arg in outputs:
+                raise TypeError(f"{owner}.{fn_name}: argument '{arg}' is one of its own outputs; compute it from "
+                                f"states and inputs instead")
     if cls.rigid_link is not None:
         if cls.ratio is None:
             raise TypeError(f"{owner}: a rigid link needs a ratio(...) function of parameters")

@@ -185,7 +185,7 @@ class Circuit:
             slot = next(s for s in self.structure.states if s.index <= outcome.bad_index < s.index + s.size)
             owners = self._owners(slot)
             value = outcome.x_end[outcome.bad_index] if outcome.x_end is not None else float("nan")
-            unit = f" {slot.unit}" if slot.unit not in ("1", "") else ""
+            unit = f" {slot.unit}" if slot.unit not in ("1", "", "SI") else ""
             msg += f"; state {slot.name} = {value:.4g}{unit} ({owners})"
         finite = outcome.x_end is not None and np.all(np.isfinite(outcome.x_end))
         if outcome.x_end is not None and not finite:
@@ -212,7 +212,7 @@ class Circuit:
                 raise out.source.error(out.path, f"output '{out.name}': {exc.args[0]}") from None
             display = out.unit or unit
             try:
-                generic = unit in ("1", "")  # generic signal blocks carry SI values of any unit
+                generic = unit in ("", "SI")  # generic signal blocks carry SI values of any unit
                 if not generic and not parse_unit(display).same_dimension(parse_unit(unit)):
                     raise out.source.error(out.path, f"output '{out.name}': unit '{display}' does not fit "
                                            f"{out.of}, which is in {unit}")

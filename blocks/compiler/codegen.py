@@ -30,6 +30,31 @@ class OutputExpr:
     unit: str  # SI unit of the value
 
 
+_LIBRARY_DIGEST: str | None = None
+
+
+def library_digest() -> str:
+    """A hash of every module of the block libraries (blocks.block, blocks.library.*, vphs_blocks.*), so that
+    an edit anywhere a block's equations may reach, helpers called through other helpers included, gives a
+    new generated module and never a stale compiled one."""
+    global _LIBRARY_DIGEST
+    if _LIBRARY_DIGEST is None:
+        import sys
+
+        from blocks import registry
+
+        registry.load_all()
+        digest = hashlib.sha256()
+        names = sorted(n for n in sys.modules if n == "blocks.block" or n.startswith(("blocks.library", "vphs_blocks")))
+        for name in names:
+            file = getattr(sys.modules[name], "__file__", None)
+            if file:
+                digest.update(name.encode())
+                digest.update(Path(file).read_bytes())
+        _LIBRARY_DIGEST = digest.hexdigest()[:16]
+    return _LIBRARY_DIGEST
+
+
 class Generator:
     def __init__(self, st: Structure):
         self.st = st
@@ -96,33 +121,15 @@ class Generator:
 
     # ---- code ------------------------------------------------------------------------------------------
     def header(self) -> list[str]:
-        lines = ["# block sources (their hashes make this file, and numba's cache, follow block edits):"]
+        lines = [f"# block library version {library_digest()} (any edit of a block or helper module changes "
+                 f"this file's name, and so numba's cache)"]
         for cls, k in self.classes.items():
             module = inspect.getmodule(cls)
-            digest = hashlib.sha256(Path(module.__file__).read_bytes()).hexdigest()[:12]
-            lines.append(f"#   {module.__name__}.{cls.__name__} {digest}")
             lines.append(f"from {module.__name__} import {cls.__name__} as _K{k}")
             for fn, prefix in (("outputs", "_o"), ("derivatives", "_d"), ("ratio", "_r")):
                 if getattr(cls, fn) is not None:
-                    lines.append(f"{prefix}{k} = njit(_K{k}.{fn})")
-        helpers = sorted(self._helper_modules())
-        for name, digest in helpers:
-            lines.insert(1, f"#   helper {name} {digest}")
+                    lines.append(f"{prefix}{k} = njit(_K{k}.{fn}, error_model='numpy')")
         return lines
-
-    def _helper_modules(self) -> set[tuple[str, str]]:
-        """Modules of numba helpers the blocks call (flow laws...): their edits must change the hash too."""
-        found = set()
-        for cls in self.classes:
-            module = inspect.getmodule(cls)
-            for value in vars(module).values():
-                helper = inspect.getmodule(value) if callable(value) else None
-                if helper is not None and helper.__name__.startswith(("blocks.", "vphs_blocks.")) \
-                        and helper is not module and hasattr(helper, "__file__") and helper.__file__:
-                    if not helper.__name__.startswith(("blocks.block", "blocks.registry")):
-                        digest = hashlib.sha256(Path(helper.__file__).read_bytes()).hexdigest()[:12]
-                        found.add((helper.__name__, digest))
-        return found
 
     def prelude(self) -> list[str]:
         """Across variables and phase-1 outputs, shared by rhs and observe."""
@@ -218,12 +225,12 @@ class Generator:
         return "\n".join(self.header()) + f"""
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def rhs(t, x, th, dx):
 {body}
 
 
-@njit(cache=True)
+@njit(cache=True, error_model="numpy")
 def observe(t, x, th, y):
 {obs_body}
 """

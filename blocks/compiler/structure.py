@@ -17,8 +17,8 @@ from dataclasses import dataclass, field
 import networkx as nx
 
 from blocks.block import ACROSS, CAPACITY, Block, PortKind
-from blocks.netlist.flatten import FlatCircuit, FlatComponent, FlatNet
-from blocks.netlist.parameters import make_entry
+from blocks.netlist.flatten import NET_BOUNDS, FlatCircuit, FlatComponent, FlatNet
+from blocks.netlist.parameters import Entry, make_entry
 
 PHYSICAL_STATE_NOMINAL = {PortKind.HYDRAULIC: 1e5, PortKind.ROTATIONAL: 1.0, PortKind.TRANSLATIONAL: 0.1}
 
@@ -78,7 +78,14 @@ def analyse(circuit: FlatCircuit) -> Structure:
     _rigid_bodies(st)
     _hydraulic_states(st)
     for body in st.bodies:
+        given = [n for n in body.members if f"{n}.initial" in st.circuit.parameters.entries]
+        if body.prescribed_by is not None and given:
+            entry = st.circuit.parameters.entries[f"{given[0]}.initial"]
+            raise entry.error(f"net '{given[0]}' moves with the source {body.prescribed_by[0]}: an initial speed "
+                              f"would be ignored")
         if body.prescribed_by is None:
+            if not given:
+                _name_initial_value(st, st.circuit.nets[body.root], ACROSS[body.kind][1])
             _check_inertia(st, body)
             body.state = _add_state(st, f"{body.root}.{ACROSS[body.kind][0]}", 1, ACROSS[body.kind][1],
                                     PHYSICAL_STATE_NOMINAL[body.kind], body.root, "speed")
@@ -124,8 +131,23 @@ def _signal_drivers(st: Structure) -> None:
         if len(outs) > 1:
             raise net.source.error(net.path, f"signal net '{net.name}' is driven by two outputs: "
                                    f"{outs[0][0]}.{outs[0][1]} and {outs[1][0]}.{outs[1][1]}")
+        out_port = st.circuit.components[outs[0][0]].cls.port(outs[0][1])
         for target in ins:
             st.driver[target] = outs[0]
+            in_port = st.circuit.components[target[0]].cls.port(target[1])
+            if not _units_agree(out_port.unit, in_port.unit):
+                raise net.source.error(net.path, f"signal net '{net.name}' joins {outs[0][0]}.{outs[0][1]} "
+                                       f"[{out_port.unit}] to {target[0]}.{target[1]} [{in_port.unit}]: the units "
+                                       f"differ (put a gain between them)")
+
+
+def _units_agree(a: str, b: str) -> bool:
+    """Two signal ports may be joined if either is generic ("SI") or their dimensions agree."""
+    from blocks.units import GENERIC, parse_unit
+
+    if GENERIC in (a, b):
+        return True
+    return parse_unit(a).same_dimension(parse_unit(b))
 
 
 def _rigid_bodies(st: Structure) -> None:
@@ -176,21 +198,29 @@ def _check_inertia(st: Structure, body: RigidBody) -> None:
 
 def _hydraulic_states(st: Structure) -> None:
     circuit = st.circuit
-    default_volume = circuit.netlist.defaults.volume
     for net in circuit.nets.values():
         if net.kind is not PortKind.HYDRAULIC or net.name in st.prescribed:
             continue
         stores = any(circuit.components[c].cls.port(p).stores for c, p in net.ports)
         if not net.has_volume and not stores:
-            if default_volume is None:
+            if net.default_volume is None:
                 raise net.source.error(net.path, f"hydraulic net '{net.name}' has no volume: give it volume:, "
                                        f"attach a volume component, or set defaults: volume: in the netlist")
-            circuit.parameters.add(make_entry(f"{net.name}.volume", default_volume, "m^3", {}, circuit.source,
-                                              ("defaults", "volume")))
+            raw, source, scope = net.default_volume
+            circuit.parameters.add(make_entry(f"{net.name}.volume", raw, "m^3", scope, source, ("defaults", "volume"),
+                                              NET_BOUNDS["volume"]))
             net.has_volume = True
         slot = _add_state(st, f"{net.name}.p", 1, "Pa", PHYSICAL_STATE_NOMINAL[PortKind.HYDRAULIC], net.name,
                           "pressure")
         st.net_state[net.name] = slot
+        _name_initial_value(st, net, "Pa")
+
+
+def _name_initial_value(st: Structure, net, unit: str) -> None:
+    """A state net without initial: starts at 0, under the name '<net>.initial' (so --set can change it)."""
+    name = f"{net.name}.initial"
+    if name not in st.circuit.parameters.entries:
+        st.circuit.parameters.add(Entry(name, unit, 0.0, None, {}, net.source, net.path, dims=None))
 
 
 def _theta_layout(st: Structure) -> None:
@@ -266,11 +296,14 @@ def jacobian_pattern(st: Structure):
     reads_cache: dict[str, set[int]] = {}
 
     def net_states(net: str) -> set[int]:
+        """States the across value of ``net`` depends on (through a source, a rigid body's source...)."""
         if net in st.net_state:
             return {st.net_state[net].index}
         body = st.body_of.get(net)
         if body is not None and body.state is not None:
             return {body.state.index}
+        if body is not None and body.prescribed_by is not None:
+            return output_reads(body.prescribed_by[0])
         if net in st.prescribed:
             return output_reads(st.prescribed[net][0])
         return set()

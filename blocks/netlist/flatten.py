@@ -24,6 +24,15 @@ from blocks.netlist.yaml_source import Located, read_bounded, read_yaml
 from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity
 
 MAX_SUBSYSTEM_DEPTH = 8
+RESERVED = {"fluid", "pi", "e"} | {
+    "sqrt", "exp", "log", "log10", "abs", "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "tanh", "hypot",
+    "min", "max", "floor", "ceil", "radians", "degrees"}
+FLUID_BOUNDS = {
+    "rho": Param("rho", "kg/m^3", None, 1.0, 5000.0, "fluid density"),
+    "nu": Param("nu", "m^2/s", None, 1e-8, 1e-2, "kinematic viscosity"),
+    "beta": Param("beta", "Pa", None, 1e6, 1e11, "bulk modulus"),
+    "vapour_pressure": Param("vapour_pressure", "Pa", None, -1.01325e5, 1e6, "vapour pressure (gauge)"),
+}
 NET_BOUNDS = {
     "volume": Param("volume", "m^3", None, 0.0, 1e3, "volume of a hydraulic net", positive=True),
     "bulk_modulus": Param("bulk_modulus", "Pa", None, 0.0, 1e12, "bulk modulus of a hydraulic net", positive=True),
@@ -47,6 +56,7 @@ class FlatNet:
     source: Located
     path: tuple
     has_volume: bool = False  # a volume entry "<net>.volume" exists
+    default_volume: tuple | None = None  # (raw, file, scope) of the defaults: volume: that applies here
 
 
 @dataclass
@@ -147,8 +157,9 @@ def flatten(file: str | Path) -> FlatCircuit:
     located = read_yaml(file)
     netlist = _load_spec(located)
     builder = _Builder()
-    builder.add_fluid(netlist, located)
-    builder.add_netlist(netlist, located, prefix="", overrides={}, override_scope={}, stack=(str(Path(file).resolve()),))
+    fluid = builder.add_fluid(netlist, located)
+    builder.add_netlist(netlist, located, prefix="", overrides={}, override_scope={},
+                        stack=(str(Path(file).resolve()),), fluid=fluid, default_volume=None)
     nets = builder.resolve_nets()
     outputs = [
         FlatOutput(name, out if isinstance(out, str) else out.of, None if isinstance(out, str) else out.unit,
@@ -173,17 +184,40 @@ class _Builder:
         self.net_names: set[str] = set()
         self.port_refs: list[tuple[str, str, Located, tuple]] = []
         self.merged_into: dict[str, str] = {}
+        self.default_volume: dict[str, tuple | None] = {}
 
     # ---- parameters ---------------------------------------------------------------------------------
-    def add_fluid(self, netlist: spec.Netlist, located: Located) -> None:
-        units = {"rho": "kg/m^3", "nu": "m^2/s", "beta": "Pa", "vapour_pressure": "Pa"}
-        for key, unit in units.items():
-            self.table.add(make_entry(f"fluid.{key}", getattr(netlist.fluid, key), unit, {}, located, ("fluid", key)))
+    def add_fluid(self, netlist: spec.Netlist, located: Located, prefix: str = "",
+                  parent: dict[str, str] | None = None) -> dict[str, str]:
+        """The fluid entries of a file; returns its scope's names for them (fluid_rho -> 'fluid.rho').
+
+        The top-level file defines fluid.*; a subsystem file that sets fluid properties itself gets its own
+        (``left.fluid.beta``) for its components and nets, and inherits the others from the file using it."""
+        if parent is None:
+            keys = list(FLUID_BOUNDS)
+        else:
+            keys = [k for k in netlist.fluid.model_fields_set if k in FLUID_BOUNDS]
+            if "vapour_pressure" in keys:
+                raise located.error(("fluid", "vapour_pressure"), "the vapour pressure is set by the top-level "
+                                    "netlist only (it decides what counts as cavitation everywhere)")
+        names = dict(parent or {})
+        for key in keys:
+            name = f"{prefix}fluid.{key}"
+            self.table.add(make_entry(name, getattr(netlist.fluid, key), FLUID_BOUNDS[key].unit, {}, located,
+                                      ("fluid", key), FLUID_BOUNDS[key]))
+            names[f"fluid_{key}"] = name
+        return names
 
     def add_netlist(self, netlist: spec.Netlist, located: Located, prefix: str, overrides: dict,
-                    override_scope: dict, stack: tuple) -> None:
+                    override_scope: dict, stack: tuple, fluid: dict[str, str], default_volume) -> None:
+        for name in netlist.parameters:
+            if not name.isidentifier() or name in RESERVED or name.startswith("_"):
+                raise located.error(("parameters", name), f"'{name}' cannot be a parameter name (a name is letters, "
+                                    f"digits and '_', starts with a letter, and is not one of {', '.join(sorted(RESERVED))})")
         scope = {name: prefix + name for name in netlist.parameters}
-        scope.update({f"fluid_{k}": f"fluid.{k}" for k in ("rho", "nu", "beta")})
+        scope.update(fluid)
+        if netlist.defaults.volume is not None:  # this file's default, for its own nets (and its subsystems')
+            default_volume = (netlist.defaults.volume, located, scope)
         for name, raw in netlist.parameters.items():
             if name in overrides:
                 raw_value, over_source, over_path = overrides[name]
@@ -199,23 +233,26 @@ class _Builder:
         for name, comp in netlist.components.items():
             self._add_component(prefix, name, comp, located, scope)
         for name, sub in netlist.subsystems.items():
-            self._add_subsystem(prefix, name, sub, located, scope, stack)
+            self._add_subsystem(prefix, name, sub, located, scope, stack, fluid, default_volume)
         for name, net in netlist.nets.items():
             qualified = prefix + name
             if qualified in self.components or qualified in self.net_names:
                 raise located.error(("nets", name), f"duplicate name '{name}' (a component or net already has it)")
+            if name == "fluid":
+                raise located.error(("nets", name), "'fluid' is a reserved name")
             self.net_names.add(qualified)
             net_spec = netlist.net(name)
             self.raw_nets.append((qualified, net_spec, located, ("nets", name)))
+            self.default_volume[qualified] = default_volume
             for key, unit in (("volume", "m^3"), ("bulk_modulus", "Pa"), ("initial", None)):
                 raw = getattr(net_spec, key)
+                if raw is None and key == "bulk_modulus" and fluid.get("fluid_beta", "fluid.beta") != "fluid.beta":
+                    raw = "fluid_beta"  # a subsystem's own fluid
                 if raw is not None:
                     self.table.add(make_entry(f"{qualified}.{key}", raw, unit, scope, located, ("nets", name, key),
                                               NET_BOUNDS.get(key)))
         for exposed, ref in netlist.ports.items():
             self.aliases[prefix + exposed] = prefix + ref
-            if prefix == "":
-                pass  # a top-level file's ports: matter only when it is used as a subsystem
 
     def _add_component(self, prefix: str, name: str, comp: spec.Component, located: Located, scope: dict) -> None:
         qualified = prefix + name
@@ -224,6 +261,8 @@ class _Builder:
             raise located.error(path, f"duplicate component name '{name}'")
         if "." in name:
             raise located.error(path, f"component name '{name}' may not contain '.'")
+        if name == "fluid":
+            raise located.error(path, "'fluid' is a reserved name")
         try:
             cls = registry.get(comp.type)
         except KeyError as exc:
@@ -276,6 +315,10 @@ class _Builder:
                 raise located.error(path + ("initial", key), f"{name}: the array state '{key}' starts at its default")
             self.table.add(make_entry(f"{qualified}.initial.{key}", raw, states[key].unit, scope, located,
                                       path + ("initial", key)))
+        for state in cls.states:  # every scalar start value has a name, so an optimiser or --set can set it
+            if state.size is None and state.name not in comp.initial:
+                self.table.add(Entry(f"{qualified}.initial.{state.name}", state.unit, float(state.start), None,
+                                     scope, located, path, dims=None))
         self.components[qualified] = flat
 
     def _array_entry(self, entry_name, raw, param, located: Located, path: tuple, name: str, scope) -> Entry:
@@ -287,7 +330,7 @@ class _Builder:
         return make_array_entry(entry_name, raw, param.unit, scope, located, path, param)
 
     def _add_subsystem(self, prefix: str, name: str, sub: spec.Subsystem, located: Located, scope: dict,
-                       stack: tuple) -> None:
+                       stack: tuple, fluid: dict[str, str], default_volume) -> None:
         path = ("subsystems", name)
         qualified = prefix + name
         if qualified in self.components:
@@ -307,7 +350,9 @@ class _Builder:
         inner = _load_spec(inner_located)
         overrides = {k: (v, located, path + ("parameters", k)) for k, v in sub.parameters.items()}
         self.components[qualified] = None  # reserve the name
-        self.add_netlist(inner, inner_located, qualified + ".", overrides, scope, stack + (resolved,))
+        inner_fluid = self.add_fluid(inner, inner_located, qualified + ".", fluid)
+        self.add_netlist(inner, inner_located, qualified + ".", overrides, scope, stack + (resolved,), inner_fluid,
+                         default_volume)
         del self.components[qualified]
         self.subsystem_names = getattr(self, "subsystem_names", set()) | {qualified}
 
@@ -380,22 +425,31 @@ class _Builder:
         return merged
 
     def _merge_net_entries(self, merged: dict[str, FlatNet], find) -> None:
-        """Nets merged through subsystem ports: volumes add up; an outer initial value wins."""
+        """Nets merged through subsystem ports: their volumes add up (each evaluated in its own file's scope,
+        so overriding one still works); an outer initial value or bulk modulus wins."""
+        volumes: dict[str, list[str]] = {}
+        for net_name, *_ in self.raw_nets:
+            if f"{net_name}.volume" in self.table.entries:
+                volumes.setdefault(find(net_name), []).append(f"{net_name}.volume")
+        for root, names in volumes.items():
+            if names == [f"{root}.volume"]:
+                continue
+            first = self.table.entries[names[0]]
+            if f"{root}.volume" in self.table.entries:  # the root's own volume keeps its value under a new name
+                own = self.table.entries.pop(f"{root}.volume")
+                own.name = f"{root}.volume_own"
+                self.table.entries[own.name] = own
+                names = [own.name if n == f"{root}.volume" else n for n in names]
+            scope = {f"_v{i}": name for i, name in enumerate(names)}
+            total = make_entry(f"{root}.volume", " + ".join(scope), "m^3", scope, first.source, first.path,
+                               NET_BOUNDS["volume"])
+            self.table.entries[total.name] = total
         for net_name, _, located, path in self.raw_nets:
             root = find(net_name)
             if root == net_name:
                 continue
-            volume = self.table.entries.pop(f"{net_name}.volume", None)
-            if volume is not None:
-                key = f"{root}.volume"
-                if key in self.table.entries:
-                    outer = self.table.entries[key]
-                    combined = f"({_entry_text(outer)}) + ({_entry_text(volume)})"
-                    scope = {**outer.scope, **volume.scope}
-                    self.table.entries[key] = make_entry(key, combined, "m^3", scope, outer.source, outer.path)
-                else:
-                    volume.name = key
-                    self.table.entries[key] = volume
+            if self.default_volume.get(root) is None and self.default_volume.get(net_name) is not None:
+                self.default_volume[root] = self.default_volume[net_name]
             for key in ("initial", "bulk_modulus"):
                 entry = self.table.entries.pop(f"{net_name}.{key}", None)
                 if entry is not None and f"{root}.{key}" not in self.table.entries:
@@ -403,6 +457,7 @@ class _Builder:
                     self.table.entries[entry.name] = entry
         for flat in merged.values():
             flat.has_volume = f"{flat.name}.volume" in self.table.entries
+            flat.default_volume = self.default_volume.get(flat.name)
         self.table._order = None
 
     def _check_net_entries(self, merged: dict[str, FlatNet]) -> None:
@@ -449,10 +504,6 @@ class _Builder:
             raise located.error(path, f"'{ref}': {comp.cls.type_name} has no port '{port_name}' "
                                 f"(its ports: {', '.join(names)})")
         return comp_name, port_name
-
-
-def _entry_text(entry: Entry) -> str:
-    return entry.written if entry.raw is not None else repr(entry.constant)
 
 
 def read_csv_column(file: Path, column: str, unit: str, located: Located, path: tuple) -> tuple:

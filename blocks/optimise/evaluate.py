@@ -4,7 +4,11 @@
     record = evaluate_design(spec, {"Kp": 6.0, "Kv": 0.35})
 
 For each load case the overrides are, in order of precedence: the design's free parameters, the load
-case's values, the job's fixed ``set:`` values (all SI, by qualified parameter name). Each case's cost is
+case's values, the job's fixed ``set:`` values (all SI, by qualified parameter name). The load cases of a
+design are independent simulations; the parallel executors run them as tasks of their own
+(:func:`evaluate_case`) and put the record together when the last one is back (:func:`combine_cases`),
+so that a job with several load cases keeps every worker busy even when the method asks for one design
+at a time. Each case's cost is
 sum_i weight_i * term_i (:mod:`blocks.optimise.costs`); the cases' costs are combined (sum, mean, worst).
 
 A failed simulation (:class:`~blocks.errors.SimulationError`), a value the netlist refuses
@@ -59,43 +63,47 @@ def case_overrides(spec: EvalSpec, design: dict[str, float], case: tuple) -> dic
     return overrides
 
 
-def evaluate_design(spec: EvalSpec, design: dict[str, float]) -> dict:
-    """Simulate every load case of ``design`` and cost it; a record for the evaluation log (see module doc)."""
+def evaluate_case(spec: EvalSpec, design: dict[str, float], k: int) -> dict:
+    """Load case ``k`` of ``design``: {"case", "terms", "cost", "error", "warnings", "seconds", "pid"}; the
+    terms are None if the simulation failed, the cost None if anything failed."""
     started = time.perf_counter()
+    name = spec.cases[k][0]
+    label = f"load case '{name}': " if len(spec.cases) > 1 else ""
+    part = {"case": name, "terms": None, "cost": None, "error": None, "warnings": [], "pid": os.getpid()}
     with _LOCK:
-        circuit = circuit_for(spec.netlist)
-        cases, warnings, error = {}, [], None
-        for case in spec.cases:
-            name = case[0]
-            try:
-                result = circuit.simulate(case_overrides(spec, design, case))
-            except VphsError as exc:  # SimulationError, ParameterError, NetlistError
-                error = f"load case '{name}': {exc}" if len(spec.cases) > 1 else str(exc)
-                break
-            except Exception as exc:  # a bug, not the design's fault: recorded as such, the job goes on
-                error = f"load case '{name}': internal error: {type(exc).__name__}: {exc}"
-                break
-            warnings += [f"{name}: {w}" if len(spec.cases) > 1 else w for w in result.warnings]
+        try:
+            result = circuit_for(spec.netlist).simulate(case_overrides(spec, design, spec.cases[k]))
+        except VphsError as exc:  # SimulationError, ParameterError, NetlistError
+            part["error"] = f"{label}{exc}"
+        except Exception as exc:  # a bug, not the design's fault: recorded as such, the job goes on
+            part["error"] = f"{label}internal error: {type(exc).__name__}: {exc}"
+        else:
+            part["warnings"] = [f"{name}: {w}" if len(spec.cases) > 1 else w for w in result.warnings]
             values = {term.name: evaluate_term(term, result.t, result) for term in spec.terms}
-            bad = [k for k, v in values.items() if not math.isfinite(v)]
+            bad = [key for key, v in values.items() if not math.isfinite(v)]
+            # JSON has no inf/nan: a non-finite term is written as null (and fails the evaluation)
+            part["terms"] = {key: (v if math.isfinite(v) else None) for key, v in values.items()}
             if bad:
-                error = f"load case '{name}': cost term {', '.join(bad)} is not finite"
-                cases[name] = {"terms": values, "cost": None}
-                break
-            cases[name] = {"terms": values, "cost": sum(t.weight * values[t.name] for t in spec.terms)}
-    if error is None:
-        cost = combine([c["cost"] for c in cases.values()], spec.combine)
-        status = "ok"
-    else:
-        cost, status = spec.penalty, "failed"
-    return {"status": status, "cost": cost, "cases": _finite(cases), "error": error,
-            "warnings": warnings[:5], "seconds": round(time.perf_counter() - started, 6), "pid": os.getpid()}
+                part["error"] = f"{label}cost term {', '.join(bad)} is not finite"
+            else:
+                part["cost"] = sum(t.weight * values[t.name] for t in spec.terms)
+    part["seconds"] = round(time.perf_counter() - started, 6)
+    return part
 
 
-def _finite(cases: dict) -> dict:
-    """JSON has no inf/nan: non-finite term values are written as null (the record is 'failed' then)."""
-    out = {}
-    for name, case in cases.items():
-        out[name] = {"terms": {k: (v if math.isfinite(v) else None) for k, v in case["terms"].items()},
-                     "cost": case["cost"]}
-    return out
+def combine_cases(spec: EvalSpec, parts: list[dict]) -> dict:
+    """The evaluation's record from its load cases (any order): failed if any case failed (the first
+    failure's message, the penalty as cost), else the cases' costs combined."""
+    parts = sorted(parts, key=lambda p: [c[0] for c in spec.cases].index(p["case"]))
+    errors = [p["error"] for p in parts if p["error"]]
+    cost = spec.penalty if errors else combine([p["cost"] for p in parts], spec.combine)
+    return {"status": "failed" if errors else "ok", "cost": cost,
+            "cases": {p["case"]: {"terms": p["terms"], "cost": p["cost"], "seconds": p["seconds"], "pid": p["pid"]}
+                      for p in parts if p["terms"] is not None},
+            "error": errors[0] if errors else None, "warnings": [w for p in parts for w in p["warnings"]][:5],
+            "seconds": round(sum(p["seconds"] for p in parts), 6), "pids": sorted({p["pid"] for p in parts if p["pid"] is not None})}
+
+
+def evaluate_design(spec: EvalSpec, design: dict[str, float]) -> dict:
+    """Every load case of ``design``, one after the other, and the record for the evaluation log."""
+    return combine_cases(spec, [evaluate_case(spec, design, k) for k in range(len(spec.cases))])

@@ -1,7 +1,8 @@
 """Where evaluations run: in this process, in a local pool of processes, or on a Dask distributed cluster.
 
 Every executor takes a batch of designs (dicts of SI parameter values) and yields ``(position, record)``
-as each evaluation finishes (in any order), so the caller can log it at once. The evaluation itself is
+as each evaluation finishes (in any order), so the caller can log it at once. The parallel executors
+submit each load case of each design as a task of its own and yield a design when its last case is back. The evaluation itself is
 :func:`blocks.optimise.evaluate.evaluate_design`; each worker process loads the circuit once
 (``Circuit.from_file``, compiled code from the disk cache) and keeps it for every later evaluation.
 
@@ -23,7 +24,7 @@ import signal
 import threading
 from typing import Iterator
 
-from blocks.optimise.evaluate import EvalSpec, circuit_for, evaluate_design
+from blocks.optimise.evaluate import EvalSpec, combine_cases, evaluate_case, evaluate_design
 
 
 def cores() -> int:
@@ -38,6 +39,7 @@ class SerialExecutor:
 
     def __init__(self, spec: EvalSpec):
         self.spec, self.workers = spec, 1
+        warm_up(spec)
 
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         for position, design in enumerate(designs):
@@ -75,8 +77,23 @@ def _orphan_watch(parent: int) -> None:
     os._exit(1)
 
 
-def _worker_task(design: dict) -> dict:
-    return evaluate_design(_WORKER_SPEC, design)
+def _ready(_) -> int:
+    return os.getpid()
+
+
+def _worker_task(design: dict, k: int) -> dict:
+    return evaluate_case(_WORKER_SPEC, design, k)
+
+
+class _Assembler:
+    """Collects the load cases of each design as they finish; says which design is complete."""
+
+    def __init__(self, spec: EvalSpec, n: int):
+        self.spec, self.parts = spec, [[] for _ in range(n)]
+
+    def add(self, i: int, part: dict) -> dict | None:
+        self.parts[i].append(part)
+        return combine_cases(self.spec, self.parts[i]) if len(self.parts[i]) == len(self.spec.cases) else None
 
 
 class LocalExecutor:
@@ -95,14 +112,21 @@ class LocalExecutor:
         context = multiprocessing.get_context("fork" if fork_ok else "spawn")
         self.pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=_worker_start,
                                         initargs=(spec, os.getpid()))
+        # start the workers now, before the job starts threads of its own (the log's fsync thread), so that
+        # they are forked from a process with one thread; and so that their start-up is not in an evaluation
+        list(self.pool.map(_ready, range(self.workers)))
 
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         from concurrent.futures import as_completed
 
-        futures = {self.pool.submit(_worker_task, design): i for i, design in enumerate(designs)}
+        futures = {self.pool.submit(_worker_task, design, k): i
+                   for i, design in enumerate(designs) for k in range(len(self.spec.cases))}
+        assembler = _Assembler(self.spec, len(designs))
         try:
             for future in as_completed(futures):
-                yield futures[future], future.result()
+                record = assembler.add(futures[future], future.result())
+                if record is not None:
+                    yield futures[future], record
         finally:
             for future in futures:
                 future.cancel()
@@ -143,16 +167,24 @@ class DaskExecutor:
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         from distributed import as_completed
 
-        futures = [self.client.submit(evaluate_design, self.spec_future, design, pure=False) for design in designs]
-        index = {future.key: i for i, future in enumerate(futures)}
+        index, futures = {}, []
+        for i, design in enumerate(designs):
+            for k in range(len(self.spec.cases)):
+                future = self.client.submit(evaluate_case, self.spec_future, design, k, pure=False)
+                index[future.key] = (i, k)
+                futures.append(future)
+        assembler = _Assembler(self.spec, len(designs))
         try:
             for future in as_completed(futures):
+                i, k = index[future.key]
                 try:
-                    record = future.result()
-                except Exception as exc:  # the cluster lost the task (a worker died, ...): a failed evaluation
-                    record = {"status": "failed", "cost": self.spec.penalty, "cases": {}, "warnings": [],
-                              "error": f"dask: {type(exc).__name__}: {exc}", "seconds": 0.0, "pid": None}
-                yield index[future.key], record
+                    part = future.result()
+                except Exception as exc:  # the cluster lost the task (a worker died, ...): a failed case
+                    part = {"case": self.spec.cases[k][0], "terms": None, "cost": None, "warnings": [],
+                            "error": f"dask: {type(exc).__name__}: {exc}", "seconds": 0.0, "pid": None}
+                record = assembler.add(i, part)
+                if record is not None:
+                    yield i, record
         finally:
             for future in futures:
                 future.cancel()

@@ -251,11 +251,14 @@ def _validate(located: Located) -> JobFile:
 
 def _located(located: Located, exc: ValidationError, prefix: tuple, model=None) -> NetlistError:
     """The first pydantic error as 'file:line:col: where: what' (the style of the netlist loader)."""
-    first = exc.errors()[0]
+    errors = exc.errors()
+    first = max(errors, key=lambda e: len(e["loc"]))  # of a union's branches, the one that got furthest
     path = prefix + _data_path(_get(located.data, prefix), first["loc"])
     where = ".".join(str(p) for p in path) or "job"
     message = first["msg"]
-    if first["type"] == "extra_forbidden":
+    if path[:2] == ("sweep", "parameters") and len(path) == 3:
+        message = "expected a list of values, or {min:, max:, points:, log:}"
+    elif first["type"] == "extra_forbidden":
         parent = model if model is not None and len(path) == len(prefix) + 1 else _parent_model(path)
         message = f"unknown key '{path[-1]}'"
         if parent is not None:

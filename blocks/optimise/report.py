@@ -271,7 +271,9 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
     cases = [c for c, _ in job.cases]
     grid2 = len(names) == 2 and len(records) == len({r["parameters"][names[0]] for r in records}) * \
         len({r["parameters"][names[1]] for r in records})
-    if grid2 and ok:
+    if grid2 and ok:  # a map over the grid, one cell per point (axes by position: values may be uneven)
+        from matplotlib.colors import LogNorm
+
         xs = sorted({r["parameters"][names[0]] for r in records})
         ys = sorted({r["parameters"][names[1]] for r in records})
         fig, axes = plt.subplots(1, len(columns), figsize=(4.2 * len(columns), 3.8), squeeze=False)
@@ -280,11 +282,16 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
             for r in ok:
                 i, j = ys.index(r["parameters"][names[1]]), xs.index(r["parameters"][names[0]])
                 Z[i, j] = r["cost"] if term is None else _combined_term(r, term.name, cases)
-            mesh = ax.pcolormesh(xs, ys, Z, shading="nearest")
+            finite = Z[np.isfinite(Z)]
+            log = finite.size and finite.min() > 0 and finite.max() > 100 * finite.min()
+            mesh = ax.imshow(Z, origin="lower", aspect="auto", norm=LogNorm() if log else None)
             fig.colorbar(mesh, ax=ax)
-            ax.set_xlabel(f"{names[0]} [{job.units.get(names[0], '')}]")
-            ax.set_ylabel(f"{names[1]} [{job.units.get(names[1], '')}]")
-            ax.set_title(label)
+            ax.set_xticks(range(len(xs)), [_fmt(v, 3) for v in xs], fontsize="small")
+            ax.set_yticks(range(len(ys)), [_fmt(v, 3) for v in ys], fontsize="small")
+            ax.set_xlabel(_axis_label(job, names[0]))
+            ax.set_ylabel(_axis_label(job, names[1]))
+            ax.set_title(label + (" (mean over the load cases)" if term is not None and len(cases) > 1 else ""),
+                         fontsize="small")
     else:
         fig, axes = plt.subplots(len(columns), 1, sharex=True, figsize=(8, 1.8 + 1.9 * len(columns)), squeeze=False)
         x_name = names[0]
@@ -303,12 +310,17 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
                     ax.legend(fontsize="x-small")
             ax.set_ylabel(label)
             ax.grid(True, alpha=0.3)
-        axes[-1, 0].set_xlabel(f"{x_name} [{job.units.get(x_name, '')}]" if len(names) == 1 else
+        axes[-1, 0].set_xlabel(_axis_label(job, x_name) if len(names) == 1 else
                                f"point ({', '.join(names)} in the table)")
     fig.suptitle(f"sweep: {job.name}")
     fig.tight_layout()
     atomic_write_figure(fig, path)
     plt.close(fig)
+
+
+def _axis_label(job, name: str) -> str:
+    unit = job.units.get(name, "")
+    return f"{name} [{unit}]" if unit else name
 
 
 def _combined_term(record: dict, term: str, cases: list[str]) -> float:

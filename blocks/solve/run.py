@@ -153,6 +153,9 @@ def _solve_scipy(circuit, vec, settings, t_out, atol) -> Outcome:
     for k in range(m):
         observe(t_out[k], X[k], theta, Y[k])
     x_min = np.nanmin(X[:m], axis=0) if m else vec.x0.copy()
+    if sol is not None and sol.y.size:  # every step end point, not only the samples (cavitation between them)
+        with np.errstate(all="ignore"):
+            x_min = np.fmin(x_min, np.nanmin(sol.y, axis=1))
     x_end = X[m - 1] if m else vec.x0.copy()
     if status != 0:
         x_end = np.asarray(last_good[1], dtype=float)

@@ -22,6 +22,20 @@ class SolverSettings:
     def with_(self, **changes) -> "SolverSettings":
         return replace(self, **changes)
 
+    def problem(self) -> tuple[str, str] | None:
+        """(setting, what is wrong) if the settings cannot run, else None."""
+        if not self.t_end > self.t_start:
+            return "t_end", f"{self.t_end:g} s must be after t_start ({self.t_start:g} s)"
+        if not self.dt_out > 0:
+            return "dt_out", "must be positive"
+        if (self.t_end - self.t_start) / self.dt_out > 5e6:
+            return "dt_out", "gives more than 5 million output samples"
+        if self.fixed_step < 0 or (self.solver == "fixed" and not self.fixed_step > 0):
+            return "fixed_step", "solver 'fixed' needs a positive fixed_step (e.g. '0.1 ms')"
+        if self.max_step < 0:
+            return "max_step", "must be positive (or left out)"
+        return None
+
 
 def read_settings(flat) -> SolverSettings:
     sim = flat.netlist.simulation
@@ -34,14 +48,11 @@ def read_settings(flat) -> SolverSettings:
             raise located.error(("simulation", key), f"simulation.{key}: {exc}") from None
 
     t_start, t_end, dt_out = seconds("t_start", sim.t_start), seconds("t_end", sim.t_end), seconds("dt_out", sim.dt_out)
-    if not t_end > t_start:
-        raise located.error(("simulation", "t_end"), f"simulation.t_end ({t_end:g} s) must be after t_start ({t_start:g} s)")
-    if not dt_out > 0:
-        raise located.error(("simulation", "dt_out"), "simulation.dt_out must be positive")
-    if (t_end - t_start) / dt_out > 5e6:
-        raise located.error(("simulation", "dt_out"), "simulation.dt_out gives more than 5 million output samples")
     fixed = seconds("fixed_step", sim.fixed_step) if sim.fixed_step is not None else 0.0
-    if sim.solver == "fixed" and not fixed > 0:
-        raise located.error(("simulation", "solver"), "solver 'fixed' needs simulation.fixed_step (e.g. '0.1 ms')")
     max_step = seconds("max_step", sim.max_step) if sim.max_step is not None else 0.0
-    return SolverSettings(t_start, t_end, dt_out, sim.solver, sim.rtol, sim.atol, fixed, max_step, sim.max_steps)
+    settings = SolverSettings(t_start, t_end, dt_out, sim.solver, sim.rtol, sim.atol, fixed, max_step, sim.max_steps)
+    problem = settings.problem()
+    if problem:
+        key, message = problem
+        raise located.error(("simulation", key), f"simulation.{key}: {message}")
+    return settings

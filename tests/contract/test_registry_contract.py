@@ -187,7 +187,7 @@ def test_units_are_si(name):
     for p in cls.ports:
         _assert_si(name, f"port '{p.name}'", p.unit_of_value)
         if p.physical:
-            assert p.unit == "1", f"{name}: physical port '{p.name}' declares unit '{p.unit}', which is unused " \
+            assert p.unit == "SI", f"{name}: physical port '{p.name}' declares unit '{p.unit}', which is unused " \
                                   f"(it carries {p.unit_of_value})"
 
 

@@ -42,17 +42,23 @@ def records(folder: Path) -> dict:
 def test_a_job_runs_on_a_dask_local_cluster(tmp_path):
     from distributed import Client, LocalCluster
 
-    on_dask, here = job(tmp_path, "dask"), job(tmp_path, "serial")
+    on_dask, here, by_cli = job(tmp_path, "dask"), job(tmp_path, "serial"), job(tmp_path, "cli")
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
         s = run_optimise(on_dask, client=client, quiet=True, report=False)
         sweep = run_sweep(on_dask, client=client, quiet=True, report=False)
         worker_pids = set(client.run(os.getpid).values())
+        import cli  # the command line's --scheduler reaches the same cluster by its address
+
+        assert cli.main(["sweep", by_cli.file, "--scheduler", cluster.scheduler_address, "-q"]) == 0
     assert s.executor == "dask" and s.workers == 2 and s.total == 30
     run_optimise(here, workers=1, quiet=True, report=False)
     remote, local = records(on_dask.output), records(here.output)
     assert sorted(remote) == list(range(30))
     assert {i: (r["x"], r["cost"]) for i, r in remote.items()} == {i: (r["x"], r["cost"]) for i, r in local.items()}
-    pids = {r["pid"] for r in remote.values()}
+    pids = {pid for r in remote.values() for pid in r["pids"]}
     assert pids <= worker_pids and len(pids) == 2  # evaluated in the cluster's two worker processes
-    assert sweep.total == 4 and {r["pid"] for r in records(on_dask.output / "sweep").values()} <= worker_pids
+    assert sweep.total == 4 and {pid for r in records(on_dask.output / "sweep").values() for pid in r["pids"]} <= worker_pids
+    assert {pid for r in records(by_cli.output / "sweep").values() for pid in r["pids"]} <= worker_pids
+    assert {i: r["cost"] for i, r in records(by_cli.output / "sweep").items()} == \
+        {i: r["cost"] for i, r in records(on_dask.output / "sweep").items()}

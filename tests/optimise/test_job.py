@@ -107,3 +107,7 @@ def test_sweep_grid_and_list(tmp_path):
         load_job(write(tmp_path, text.replace("points: 3", "points: 4") + "  combine: list\n"))
     with pytest.raises(NetlistError, match="sweep.parameters"):
         load_job(write(tmp_path, GOOD + "sweep:\n  parameters: {Kp: [1], Kv: [1], m_load: [1]}\n"))
+    with pytest.raises(NetlistError, match=r"job.yaml:\d+:\d+: sweep.parameters.Kp: expected a list of values, or"):
+        load_job(write(tmp_path, GOOD + "sweep:\n  parameters: {Kp: 5}\n"))
+    with pytest.raises(NetlistError, match="sweep.parameters.Kp.points: missing 'points'"):
+        load_job(write(tmp_path, GOOD + "sweep:\n  parameters: {Kp: {min: 1, max: 3}}\n"))

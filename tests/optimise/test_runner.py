@@ -84,14 +84,39 @@ def test_serial_job_logs_every_evaluation_once_and_reports(tmp_path):
 
 
 def test_local_pool_gives_the_same_evaluations_as_serial(tmp_path):
-    serial = load_job(small_job(tmp_path, out="serial"))
-    pool = load_job(small_job(tmp_path, out="pool"))
+    """Two load cases: the pool runs each case as a task of its own and puts the record together."""
+    serial = load_job(small_job(tmp_path, out="serial", cases=2))
+    pool = load_job(small_job(tmp_path, out="pool", cases=2))
     run_optimise(serial, workers=1, quiet=True, report=False)
     s = run_optimise(pool, workers=2, quiet=True, report=False)
     assert s.executor == "local" and s.workers == 2
     a, b = evaluations(serial.output), evaluations(pool.output)
     assert by_index(a) == by_index(b)
-    assert len({r["pid"] for r in b}) == 2 and os.getpid() not in {r["pid"] for r in b}
+    strip = lambda r: {c: {"terms": v["terms"], "cost": v["cost"]} for c, v in r["cases"].items()}  # noqa: E731
+    assert {r["index"]: strip(r) for r in a} == {r["index"]: strip(r) for r in b}
+    assert any(len(r["pids"]) == 2 for r in b)  # a design's two cases ran in two processes
+    pids = {pid for r in b for pid in r["pids"]}
+    assert len(pids) == 2 and os.getpid() not in pids
+
+
+@pytest.mark.parametrize("algorithm", [
+    "{method: nelder_mead, max_evaluations: 30, start: netlist}",
+    "{method: differential_evolution, max_evaluations: 30, popsize: 5}"])
+def test_scipy_methods_run_as_jobs(tmp_path, algorithm):
+    path = small_job(tmp_path, budget=30)
+    path.write_text(path.read_text().replace(
+        "algorithm: {method: complex, max_evaluations: 30, tol_x: 0, tol_f: 0, candidates: 2}",
+        f"algorithm: {algorithm}"))
+    job = load_job(path)
+    s = run_optimise(job, workers=2, quiet=True)
+    records = evaluations(job.output)
+    assert sorted(r["index"] for r in records) == list(range(s.total)) and 0 < s.total <= 30
+    assert s.best["cost"] == min(r["cost"] for r in records)
+    if "nelder_mead" in algorithm:  # starts at the netlist's values Kp = 4, Kv = 0.4
+        assert records[0]["parameters"] == pytest.approx({"Kp": 4.0, "Kv": 0.4})
+    else:
+        assert {r["step"] for r in records} == {"generation"} and len({pid for r in records for pid in r["pids"]}) == 2
+    assert "## Best design" in (job.output / "report.md").read_text()
 
 
 def test_failed_simulations_are_recorded_with_a_penalty_and_the_job_goes_on(tmp_path):

@@ -22,8 +22,8 @@ class Highpass2(Block):
         Param("zeta", "1", 0.7071067811865476, 0.0, None, "damping ratio (1/sqrt(2): Butterworth)"),
     )
     states = (
-        State("x", "1", 0.0, 1.0, "low-pass part of the input"),
-        State("dx", "1/s", 0.0, 1.0, "time derivative of the low-pass part"),
+        State("x", "SI", 0.0, 1.0, "low-pass part of the input"),
+        State("dx", "SI", 0.0, 1.0, "time derivative of the low-pass part"),
     )
 
     @staticmethod

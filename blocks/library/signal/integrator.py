@@ -23,7 +23,7 @@ class Integrator(Block):
         Param("y_min", "SI", -UNLIMITED, None, None, "lower output limit (SI; default unlimited)"),
         Param("y_max", "SI", UNLIMITED, None, None, "upper output limit (SI; default unlimited)"),
     )
-    states = (State("x", "1", 0.0, 1.0, "integral of k*u (the initial value is its start)"),)
+    states = (State("x", "SI", 0.0, 1.0, "integral of k*u (the initial value is its start)"),)
 
     @staticmethod
     def outputs(x, y_min, y_max):

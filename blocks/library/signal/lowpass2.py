@@ -20,8 +20,8 @@ class Lowpass2(Block):
         Param("zeta", "1", 0.7071067811865476, 0.0, None, "damping ratio (1/sqrt(2): Butterworth)"),
     )
     states = (
-        State("x", "1", 0.0, 1.0, "filter output y"),
-        State("dx", "1/s", 0.0, 1.0, "time derivative of the filter output"),
+        State("x", "SI", 0.0, 1.0, "filter output y"),
+        State("dx", "SI", 0.0, 1.0, "time derivative of the filter output"),
     )
 
     @staticmethod

@@ -25,8 +25,8 @@ class PadeDelay(Block):
         Param("T_min", "s", 1e-5, 1e-9, 1.0, "below this delay the block passes u through (regularisation)"),
     )
     states = (
-        State("x1", "1", 0.0, 1.0, "filter state: u filtered by 1/(1 + sT/2 + (sT)^2/12)"),
-        State("x2", "1/s", 0.0, 1.0, "time derivative of x1"),
+        State("x1", "SI", 0.0, 1.0, "filter state: u filtered by 1/(1 + sT/2 + (sT)^2/12)"),
+        State("x2", "SI", 0.0, 1.0, "time derivative of x1"),
     )
 
     @staticmethod

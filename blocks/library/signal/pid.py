@@ -34,8 +34,8 @@ class PID(Block):
         Param("Kaw", "1/s", 1.0, 0.0, None, "back-calculation anti-windup gain (0: none)"),
     )
     states = (
-        State("xi", "1", 0.0, 1.0, "integral part of the output (its start is the initial integral action)"),
-        State("xd", "1", 0.0, 1.0, "error low-passed by the derivative filter"),
+        State("xi", "SI", 0.0, 1.0, "integral part of the output (its start is the initial integral action)"),
+        State("xd", "SI", 0.0, 1.0, "error low-passed by the derivative filter"),
     )
 
     @staticmethod

@@ -21,8 +21,8 @@ class SecondOrder(Block):
         Param("k", "SI", 1.0, None, None, "static gain"),
     )
     states = (
-        State("x", "1", 0.0, 1.0, "output y"),
-        State("dx", "1/s", 0.0, 1.0, "time derivative of the output"),
+        State("x", "SI", 0.0, 1.0, "output y"),
+        State("dx", "SI", 0.0, 1.0, "time derivative of the output"),
     )
 
     @staticmethod

@@ -29,7 +29,7 @@ class TransferFunction(Block):
         Param("den", "SI", None, None, None, "denominator coefficients, descending powers of s, den[0] != 0 (SI)",
               array=True),
     )
-    states = (State("x", "1", 0.0, 1.0, "controllable canonical form state", size=lambda n: n["den"] - 1),)
+    states = (State("x", "SI", 0.0, 1.0, "controllable canonical form state", size=lambda n: n["den"] - 1),)
 
     @staticmethod
     def outputs(u, x, num, den):

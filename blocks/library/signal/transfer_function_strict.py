@@ -27,7 +27,7 @@ class TransferFunctionStrict(Block):
         Param("den", "SI", None, None, None, "denominator coefficients, descending powers of s, den[0] != 0 (SI)",
               array=True),
     )
-    states = (State("x", "1", 0.0, 1.0, "controllable canonical form state", size=lambda n: n["den"] - 1),)
+    states = (State("x", "SI", 0.0, 1.0, "controllable canonical form state", size=lambda n: n["den"] - 1),)
 
     @staticmethod
     def outputs(x, num, den):
