@@ -16,6 +16,10 @@ with its stops switched off so that exactly N evaluations run. Printed, all meas
    Complex-RFP task prediction; same path of the complex) the iterations reached within the same N
    evaluations and the wall time per iteration. Speculative candidates that were not needed count
    against the budget, so the speed-up in iterations per second is below the one in evaluations.
+   Also the bound the evaluations' own times put on the speed-up (a batch lasts as long as its slowest
+   design), computed from the 1-worker run's log.
+4. The method as stated (candidates = 1) on a job with three load cases: the cases of a design run in
+   parallel, 1 worker against every core.
 Repeats alternate the configurations and the median is printed (the machine may be shared).
 """
 
@@ -42,6 +46,29 @@ from blocks.optimise.log import EvaluationLog  # noqa: E402
 from blocks.optimise.runner import run_optimise  # noqa: E402
 
 JOB = ROOT / "netlists" / "jobs" / "drive_line_controller.yaml"
+CASES_JOB = ROOT / "netlists" / "jobs" / "drive_line_load_cases.yaml"
+
+
+def _spin(n: int = 4_000_000) -> float:
+    t0 = time.perf_counter()
+    x = 0
+    for i in range(n):
+        x += i & 7
+    return time.perf_counter() - t0
+
+
+def machine_capacity(p: int) -> float:
+    """How much faster p processes get through p copies of a pure compute loop than one process gets
+    through one, right now: p on an idle machine, less when other programs share the cores."""
+    import multiprocessing
+
+    one = min(_spin() for _ in range(2))
+    with multiprocessing.get_context("fork").Pool(p) as pool:
+        pool.map(_spin, [1000] * p)
+        t0 = time.perf_counter()
+        pool.map(_spin, [4_000_000] * p)
+        many = time.perf_counter() - t0
+    return p * one / many
 
 
 def per_evaluation(job, n: int = 100) -> dict:
@@ -89,6 +116,23 @@ def run(job, workers: int, candidates: int, evaluations: int, folder: Path):
     return wall, s
 
 
+def ideal_time(records: list[dict], candidates: int, workers: int) -> float:
+    """The shortest time ``workers`` could take for these evaluations, given each load case's own time (as
+    measured one at a time) and the batches the method asks for (a batch ends when its slowest task does):
+    tasks go to the first free worker, no overhead."""
+    batches: dict[tuple, list[float]] = {}
+    for r in sorted(records, key=lambda r: r["index"]):
+        chunk = 0 if r["step"] == "initial" else r["n_rep"] // candidates
+        batches.setdefault((r["iteration"], chunk), []).extend(c["seconds"] for c in r["cases"].values())
+    total = 0.0
+    for tasks in batches.values():
+        free = [0.0] * workers
+        for d in tasks:
+            free[free.index(min(free))] += d
+        total += max(free)
+    return total
+
+
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--repeats", type=int, default=3)
@@ -96,7 +140,8 @@ def main() -> int:
     args = parser.parse_args()
     n, p = args.evaluations, cores()
     job = load_job(JOB)
-    print(f"machine: {p} cores, load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} (before)")
+    print(f"machine: {p} cores, load average {', '.join(f'{x:.2f}' for x in os.getloadavg())} (before); "
+          f"{p} processes on a pure compute loop run {machine_capacity(p):.2f}x as fast as one, now")
     e = per_evaluation(job)
     print(f"one evaluation of the 3 s drive line ({e['steps']} steps): simulate {e['simulate'] * 1e3:.2f} ms "
           f"(solver {e['solver'] * 1e3:.2f} ms, the rest Python in Circuit.simulate), cost terms "
@@ -105,7 +150,7 @@ def main() -> int:
 
     tmp = Path(tempfile.mkdtemp(prefix="vphs-bench-"))
     try:
-        walls = {1: [], p: []}
+        walls, last = {1: [], p: []}, None
         phases = {1: [], p: []}
         iters = {1: [], p: []}
         for _ in range(args.repeats):
@@ -113,7 +158,7 @@ def main() -> int:
                 wall, s = run(job, workers, p, n, tmp / f"w{workers}")
                 walls[workers].append(wall)
                 phases[workers].append(s.seconds)
-        same = None
+                last = (workers, s) if workers == 1 else last
         print(f"\n{n}-evaluation Complex job, candidates = {p} (the same {n} designs for both):")
         for workers in (1, p):
             w, ph = statistics.median(walls[workers]), statistics.median(phases[workers])
@@ -123,6 +168,13 @@ def main() -> int:
         ph1, php = statistics.median(phases[1]), statistics.median(phases[p])
         print(f"  speed-up with {p} workers: {w1 / wp:.2f}x over the wall time, {ph1 / php:.2f}x over the evaluations "
               f"(target >= 1.8x); {n / wp:.1f} evaluations/s (target >= 30)")
+        serial_records = [r for r in last[1].records]
+        busy = sum(r["seconds"] for r in serial_records)
+        bound = ideal_time(serial_records, p, p)
+        print(f"  bound from the evaluations' own times (1-worker run): {busy:.2f} s of simulation, at best "
+              f"{bound:.2f} s on {p} workers in batches of {p} -> at most {busy / bound:.2f}x (a batch waits for its "
+              f"slowest design; designs differ up to {max(r['seconds'] for r in serial_records) / min(r['seconds'] for r in serial_records):.0f}x "
+              f"in cost)")
 
         for _ in range(args.repeats):
             for workers, c in ((1, 1), (p, p)):
@@ -140,7 +192,23 @@ def main() -> int:
         (w1, ph1, it1), (wp, php, itp) = rows[1], rows[p]
         print(f"  iterations per second: {it1 / ph1:.1f} (one at a time) -> {itp / php:.1f} ({p} candidates on {p} "
               f"workers): {(itp / php) / (it1 / ph1):.2f}x; evaluations per iteration {n / it1:.2f} -> {n / itp:.2f}")
-        print(f"\nmachine load average after: {', '.join(f'{x:.2f}' for x in os.getloadavg())}")
+        cases_job = load_job(CASES_JOB)
+        m = max(cases_job.settings.points or 0, 2 * len(cases_job.free), 3) * 25
+        times = {1: [], p: []}
+        for _ in range(args.repeats):
+            for workers in (1, p):
+                wall, s = run(cases_job, workers, 1, m, tmp / f"cases{workers}")
+                times[workers].append((wall, s.seconds))
+        print(f"\nthe method as stated (candidates 1: one design at a time), {m} evaluations of a job with "
+              f"{len(cases_job.cases)} load cases ({CASES_JOB.name}): each case a task of its own")
+        for workers in (1, p):
+            wall, phase = (statistics.median(x[k] for x in times[workers]) for k in (0, 1))
+            print(f"  {workers} worker{'s' if workers > 1 else ' '}: wall {wall:5.2f} s, {m / wall:6.1f} evaluations/s")
+        w1, wp = (statistics.median(x[0] for x in times[w]) for w in (1, p))
+        print(f"  speed-up: {w1 / wp:.2f}x")
+        print(f"\nmachine load average after: {', '.join(f'{x:.2f}' for x in os.getloadavg())}; {p} processes on a "
+              f"pure compute loop run {machine_capacity(p):.2f}x as fast as one, now (the speed-ups above cannot "
+              f"exceed what the machine gives)")
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
     return 0

@@ -59,7 +59,7 @@ class PVG32(Block):
         hydraulic("T", "tank (return) port"),
         hydraulic("A", "work port A (P -> A for u > 0)"),
         hydraulic("B", "work port B (P -> B for u < 0)"),
-        signal_in("u", "command, -1 ... 1 (saturated): the demanded spool position as a fraction of x_max"),
+        signal_in("u", "command, -1 ... 1 (saturated): the demanded spool position as a fraction of x_max", "1"),
         signal_out("spool", "spool position x [m] (positive towards P -> A)", "m"),
     )
     params = (

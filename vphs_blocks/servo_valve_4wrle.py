@@ -89,8 +89,8 @@ class Servo4WRLE(Block):
         hydraulic("T", "tank (return) port"),
         hydraulic("A", "work port A (P -> A for u > 0)"),
         hydraulic("B", "work port B (P -> B for u < 0)"),
-        signal_in("u", "command, -1 ... 1 (saturated): the demanded normalised spool position"),
-        signal_out("spool", "spool position x, normalised (1 = full stroke P -> A)"),
+        signal_in("u", "command, -1 ... 1 (saturated): the demanded normalised spool position", "1"),
+        signal_out("spool", "spool position x, normalised (1 = full stroke P -> A)", "1"),
     )
     params = (
         Param("A_max", "m^2", None, 0.0, 1e-2, "area of one metering edge at full stroke"),

@@ -185,6 +185,7 @@ class _Builder:
         self.port_refs: list[tuple[str, str, Located, tuple]] = []
         self.merged_into: dict[str, str] = {}
         self.default_volume: dict[str, tuple | None] = {}
+        self.auto_bulk: set[str] = set()
 
     # ---- parameters ---------------------------------------------------------------------------------
     def add_fluid(self, netlist: spec.Netlist, located: Located, prefix: str = "",
@@ -247,7 +248,8 @@ class _Builder:
             for key, unit in (("volume", "m^3"), ("bulk_modulus", "Pa"), ("initial", None)):
                 raw = getattr(net_spec, key)
                 if raw is None and key == "bulk_modulus" and fluid.get("fluid_beta", "fluid.beta") != "fluid.beta":
-                    raw = "fluid_beta"  # a subsystem's own fluid
+                    raw = "fluid_beta"  # a subsystem's own fluid (not carried onto an outer net it joins)
+                    self.auto_bulk.add(f"{qualified}.bulk_modulus")
                 if raw is not None:
                     self.table.add(make_entry(f"{qualified}.{key}", raw, unit, scope, located, ("nets", name, key),
                                               NET_BOUNDS.get(key)))
@@ -452,6 +454,8 @@ class _Builder:
                 self.default_volume[root] = self.default_volume[net_name]
             for key in ("initial", "bulk_modulus"):
                 entry = self.table.entries.pop(f"{net_name}.{key}", None)
+                if entry is not None and entry.name in self.auto_bulk:
+                    continue  # a merged net is in the outer file's fluid unless a bulk modulus is written
                 if entry is not None and f"{root}.{key}" not in self.table.entries:
                     entry.name = f"{root}.{key}"
                     self.table.entries[entry.name] = entry

@@ -15,6 +15,7 @@ while ``J: "0.085 + m_load*r**2/n**2"`` with a free ``n`` and ``0.085`` is accep
 from __future__ import annotations
 
 import ast
+import re
 from dataclasses import dataclass, field
 
 import networkx as nx
@@ -212,6 +213,14 @@ def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
     return FREE
 
 
+def _names_a_parameter(raw: str, scope: dict[str, str]) -> bool:
+    """True for "1000 kg * g" with a parameter g: an operator written with spaces after a unit, followed by a
+    name in scope, makes the text an expression (units themselves are written without spaced operators)."""
+    unit_text = split_quantity(raw)[1]
+    spaced = re.search(r"\s[*/·]|[*/·]\s", unit_text)
+    return bool(spaced) and bool(set(re.findall(r"[A-Za-z_]\w*", unit_text[spaced.start():])) & set(scope))
+
+
 def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: Located, path: tuple,
                bounds=None) -> Entry:
     """Read a raw netlist value: a number (SI), '<number> <unit>' (checked against ``unit``) or an expression."""
@@ -223,7 +232,7 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
     if not isinstance(raw, str):
         raise source.error(path, f"{name}: expected a single value, got {type(raw).__name__}")
     unit_problem = None
-    if _QUANTITY.match(raw):
+    if _QUANTITY.match(raw) and not _names_a_parameter(raw, scope):
         try:
             number, unit_text = split_quantity(raw)
             if unit is None:

@@ -59,12 +59,13 @@ def warm_up(spec: EvalSpec) -> None:
     evaluate_design(spec, {})
 
 
-def _worker_start(spec: EvalSpec, parent: int) -> None:
+def _worker_start(spec: EvalSpec, parent: int, warm: bool) -> None:
     global _WORKER_SPEC
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the job's to handle
     threading.Thread(target=_orphan_watch, args=(parent,), daemon=True).start()
     _WORKER_SPEC = spec
-    warm_up(spec)
+    if warm:  # a spawned worker loads the circuit itself; a forked one inherited it warm
+        warm_up(spec)
 
 
 def _orphan_watch(parent: int) -> None:
@@ -111,7 +112,7 @@ class LocalExecutor:
             warm_up(spec)  # loaded (and its compiled code read from the cache) once here; forked workers inherit it
         context = multiprocessing.get_context("fork" if fork_ok else "spawn")
         self.pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=_worker_start,
-                                        initargs=(spec, os.getpid()))
+                                        initargs=(spec, os.getpid(), not fork_ok))
         # start the workers now, before the job starts threads of its own (the log's fsync thread), so that
         # they are forked from a process with one thread; and so that their start-up is not in an evaluation
         list(self.pool.map(_ready, range(self.workers)))

@@ -25,7 +25,18 @@
       parameters: {Kp: [2, 4, 8], Kv: {min: 0.2, max: 0.6, points: 5}}
       combine: grid                        # grid (every combination) | list (the i-th values together)
 
+Methods and their settings (defaults):
+    complex: max_evaluations 500, points max(2n, 3), alpha 1.3, n0 4, rfak 0, gamma 0, tol_x 1e-4,
+             tol_f 1e-5, max_retractions 30, candidates auto (= the workers; see blocks.optimise.complex)
+    nelder_mead: max_evaluations 500, xatol 1e-4, fatol 1e-6, start random | netlist, adaptive false
+    differential_evolution: max_evaluations 1000, popsize 15, tol 0.01, atol 0, mutation [0.5, 1.0],
+             recombination 0.7, strategy best1bin, polish false
+Outputs: ``vphs optimise`` writes into ``output``, ``vphs sweep`` into ``output``/sweep.
+A failed simulation costs ``penalty``: choose it above any cost a working design can have (the report
+warns when working designs cost more).
+
 Values are numbers in SI or "<number> <unit>" strings, checked against the parameter's unit and bounds.
+A load case's value wins over the same parameter in ``set:``; a varied parameter may be in neither.
 The methods work in normalised coordinates z in [0, 1] per free parameter:
 value = min + z*(max - min), or with ``log: true`` value = min * (max/min)**z; their tolerances
 (tol_x, xatol) are therefore fractions of each parameter's range (of its decades with log).

@@ -36,6 +36,8 @@ def _plt():
 def _fmt(v, digits: int = 6) -> str:
     if v is None:
         return "-"
+    if isinstance(v, bool):
+        return str(v).lower()
     if isinstance(v, float) and not math.isfinite(v):
         return str(v)
     return f"{v:.{digits}g}" if isinstance(v, (int, float)) else str(v)

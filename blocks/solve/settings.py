@@ -30,7 +30,9 @@ class SolverSettings:
             return "dt_out", "must be positive"
         if (self.t_end - self.t_start) / self.dt_out > 5e6:
             return "dt_out", "gives more than 5 million output samples"
-        if self.fixed_step < 0 or (self.solver == "fixed" and not self.fixed_step > 0):
+        if self.fixed_step < 0:
+            return "fixed_step", "must be positive"
+        if self.solver == "fixed" and not self.fixed_step > 0:
             return "fixed_step", "solver 'fixed' needs a positive fixed_step (e.g. '0.1 ms')"
         if self.max_step < 0:
             return "max_step", "must be positive (or left out)"

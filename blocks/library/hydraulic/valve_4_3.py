@@ -32,7 +32,7 @@ class Valve43(Block):
         hydraulic("T", "return (tank) port"),
         hydraulic("A", "work port A (P -> A for x > 0)"),
         hydraulic("B", "work port B (P -> B for x < 0)"),
-        signal_in("x", "spool position, -1 ... 1"),
+        signal_in("x", "spool position, -1 ... 1", "1"),
     )
     params = (
         Param("A_max", "m^2", None, 0.0, 1.0, "area of one metering edge at full spool stroke"),
