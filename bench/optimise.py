@@ -150,7 +150,7 @@ def main() -> int:
 
     tmp = Path(tempfile.mkdtemp(prefix="vphs-bench-"))
     try:
-        walls, last = {1: [], p: []}, None
+        walls, serial_summary = {1: [], p: []}, None
         phases = {1: [], p: []}
         iters = {1: [], p: []}
         for _ in range(args.repeats):
@@ -158,7 +158,8 @@ def main() -> int:
                 wall, s = run(job, workers, p, n, tmp / f"w{workers}")
                 walls[workers].append(wall)
                 phases[workers].append(s.seconds)
-                last = (workers, s) if workers == 1 else last
+                if workers == 1:
+                    serial_summary = s
         print(f"\n{n}-evaluation Complex job, candidates = {p} (the same {n} designs for both):")
         for workers in (1, p):
             w, ph = statistics.median(walls[workers]), statistics.median(phases[workers])
@@ -168,7 +169,7 @@ def main() -> int:
         ph1, php = statistics.median(phases[1]), statistics.median(phases[p])
         print(f"  speed-up with {p} workers: {w1 / wp:.2f}x over the wall time, {ph1 / php:.2f}x over the evaluations "
               f"(target >= 1.8x); {n / wp:.1f} evaluations/s (target >= 30)")
-        serial_records = [r for r in last[1].records]
+        serial_records = serial_summary.records
         busy = sum(r["seconds"] for r in serial_records)
         bound = ideal_time(serial_records, p, p)
         print(f"  bound from the evaluations' own times (1-worker run): {busy:.2f} s of simulation, at best "
