@@ -57,7 +57,7 @@ def test_a_job_runs_on_a_dask_local_cluster(tmp_path):
     assert sorted(remote) == list(range(30))
     assert {i: (r["x"], r["cost"]) for i, r in remote.items()} == {i: (r["x"], r["cost"]) for i, r in local.items()}
     pids = {pid for r in remote.values() for pid in r["pids"]}
-    assert pids <= worker_pids and len(pids) == 2  # evaluated in the cluster's two worker processes
+    assert pids and pids <= worker_pids  # evaluated in the cluster's worker processes (which ones: the scheduler's choice)
     assert sweep.total == 4 and {pid for r in records(on_dask.output / "sweep").values() for pid in r["pids"]} <= worker_pids
     assert {pid for r in records(by_cli.output / "sweep").values() for pid in r["pids"]} <= worker_pids
     assert {i: r["cost"] for i, r in records(by_cli.output / "sweep").items()} == \

@@ -94,9 +94,10 @@ def test_local_pool_gives_the_same_evaluations_as_serial(tmp_path):
     assert by_index(a) == by_index(b)
     strip = lambda r: {c: {"terms": v["terms"], "cost": v["cost"]} for c, v in r["cases"].items()}  # noqa: E731
     assert {r["index"]: strip(r) for r in a} == {r["index"]: strip(r) for r in b}
-    assert any(len(r["pids"]) == 2 for r in b)  # a design's two cases ran in two processes
+    # evaluated in worker processes, never in this one (which worker takes which task is up to the OS
+    # scheduler on a shared machine, so how many distinct workers were used is not asserted)
     pids = {pid for r in b for pid in r["pids"]}
-    assert len(pids) == 2 and os.getpid() not in pids
+    assert 1 <= len(pids) <= 2 and os.getpid() not in pids
 
 
 @pytest.mark.parametrize("algorithm", [
@@ -115,7 +116,8 @@ def test_scipy_methods_run_as_jobs(tmp_path, algorithm):
     if "nelder_mead" in algorithm:  # starts at the netlist's values Kp = 4, Kv = 0.4
         assert records[0]["parameters"] == pytest.approx({"Kp": 4.0, "Kv": 0.4})
     else:
-        assert {r["step"] for r in records} == {"generation"} and len({pid for r in records for pid in r["pids"]}) == 2
+        pids = {pid for r in records for pid in r["pids"]}
+        assert {r["step"] for r in records} == {"generation"} and 1 <= len(pids) <= 2 and os.getpid() not in pids
     assert "## Best design" in (job.output / "report.md").read_text()
 
 
