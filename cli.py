@@ -8,6 +8,7 @@
     vphs docs [-o docs/netlist-reference.md]
     vphs optimise JOB [--resume] [--scheduler ADDRESS] [--workers N]
     vphs sweep JOB [--resume] [--scheduler ADDRESS] [--workers N]
+    vphs calibrate EXPERIMENT [-o folder]
 
 Exit codes: 0 success, 1 the simulation failed (the solver's message says when and where), 2 bad input
 (a netlist, a data file, an argument). Errors are one line, never a traceback.
@@ -77,6 +78,12 @@ def build_parser() -> argparse.ArgumentParser:
         p.add_argument("--scheduler", metavar="ADDRESS", help="evaluate on a Dask cluster (tcp://host:8786)")
         p.add_argument("--workers", type=int, metavar="N", help="local worker processes (default: every core)")
         p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
+
+    p = sub.add_parser("calibrate", help="fit an experiment's free parameters to measured data, trace the residual "
+                                         "to candidate effects and write the augmented netlist")
+    p.add_argument("experiment", help="experiment file (YAML, netlists/experiments/): netlist, data, inputs, outputs, free")
+    p.add_argument("-o", "--output", help="folder for the report and the netlists (default out/calibrate/<experiment>)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
 
     p = sub.add_parser("docs", help="write the netlist reference generated from the block registry")
     p.add_argument("-o", "--output", default="docs/netlist-reference.md")
@@ -355,9 +362,30 @@ def cmd_optimise(args, sweep: bool = False) -> int:
     return 0
 
 
+def cmd_calibrate(args) -> int:
+    """vphs calibrate EXPERIMENT: declared fit, residual trace, augmented netlist, report (blocks.calibrate)."""
+    from blocks.calibrate.report import write
+    from blocks.calibrate.run import calibrate
+
+    out = Path(args.output or Path("out") / "calibrate" / Path(args.experiment).stem)
+    if out.exists() and not out.is_dir():
+        raise ArgumentError(f"vphs: output '{out}' is a file; give a folder")
+
+    def say(message: str) -> None:
+        if not args.quiet:
+            print(f"vphs: {message}", file=sys.stderr, flush=True)
+
+    cal = calibrate(args.experiment, out, progress=say)
+    paths = write(cal, out)
+    for line in cal.verdict:
+        print(line)
+    say(f"wrote {paths['markdown']}, {paths['json']}, {paths['plot']}")
+    return 0
+
+
 COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "diff": cmd_diff,
             "optimise": cmd_optimise, "sweep": lambda args: cmd_optimise(args, sweep=True),
-            "docs": cmd_docs}
+            "calibrate": cmd_calibrate, "docs": cmd_docs}
 
 
 if __name__ == "__main__":

@@ -76,6 +76,11 @@ def load_data(exp: Experiment) -> Dataset:
             if not parse_unit(table.units[ch.name]).same_dimension(parse_unit(ch.si_unit)):
                 raise table.error(f"unit '{table.units[ch.name]}' does not fit the signal's {ch.si_unit}", ch.name)
         ch.unit = table.units[ch.name]
+        if ch.si_unit in ("", "SI"):  # a netlist parameter without declared unit: the data column's dimension
+            from blocks.units import parse_unit
+
+            dims = parse_unit(ch.unit).describe_dims()
+            ch.si_unit = dims if dims not in ("", "1") else "1"
         measured[ch.name] = values
     t = None
     if kind == "time":

@@ -27,6 +27,7 @@ class NetlistDoc:
         self.data = data
         self.folder = Path(folder)
         self.notes: list[str] = []
+        self.origin: dict[str, str] = {}  # a node added by move_port -> the net whose oil it holds
 
     @classmethod
     def read(cls, file: str | Path) -> "NetlistDoc":
@@ -36,6 +37,7 @@ class NetlistDoc:
     def copy(self) -> "NetlistDoc":
         doc = NetlistDoc(copy.deepcopy(self.data), self.folder)
         doc.notes = list(self.notes)
+        doc.origin = dict(self.origin)
         return doc
 
     # ---- sections ---------------------------------------------------------------------------------
@@ -82,13 +84,25 @@ class NetlistDoc:
                 return net
         return None
 
-    def move_port(self, port: str, new_net: str, new_port_on_old: str, new_port_on_new: str, volume=None) -> str:
+    def move_port(self, port: str, new_net: str, new_port_on_old: str, new_port_on_new: str, volume=None,
+                  initial=None) -> str:
         """Insert a two-port element in series at ``port``: the port leaves its net for ``new_net``, the
-        element's ``new_port_on_old`` joins the old net and ``new_port_on_new`` the new one. Returns the old net."""
+        element's ``new_port_on_old`` joins the old net and ``new_port_on_new`` the new one; the new net
+        starts at ``initial`` (the old net's start pressure, so that nothing rushes through at t = 0), and
+        its ``volume`` is taken from the old net's own volume where it has one (so the oil volume, and with it
+        the dynamics, stay as they were). Returns the old net."""
         old = self.net_of(port)
         ports = [p for p in self.net_ports(old) if p != port] + [new_port_on_old]
         self.set_net_ports(old, ports)
         self.add_net(new_net, [port, new_port_on_new], volume)
+        if initial is not None:
+            self.section("nets")[new_net]["initial"] = initial  # start in equilibrium with the old net
+        root = self.origin.get(old, old)
+        self.origin[new_net] = root
+        spec = self.section("nets")[root]
+        if volume is not None and isinstance(spec, dict) and spec.get("volume") is not None \
+                and not root.startswith("cal_"):
+            spec["volume"] = f"({spec['volume']}) - {volume!r} m^3"  # the node's oil is taken from the net
         return old
 
     def set_param(self, component: str, param: str, value) -> None:

@@ -124,7 +124,7 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
             doc.write(target, header=augmented_header(exp, cal, netlist))
             rnd.augmented_file = target
             netlist = target
-        prev_model = rnd.smodel
+        prev_model = acc.model
         x_prev = acc.fit.x
         write_augmented_experiment(exp, cal, netlist, globals_, acc, out)
     if cal.accepted:
@@ -190,7 +190,7 @@ def context(stage: Stage, exp: Experiment, data: Dataset, doc: NetlistDoc) -> Co
     speeds = channels_in("rad/s")
     w_ref = max((float(np.max(np.abs(data.measured[c.name]))) for c in speeds), default=10.0) or 10.0
     t_span = float(data.t[-1] - data.t[0]) if data.kind == "time" else stage.model.settings.t_end
-    values = circuit.vectors().values
+    values = circuit.vectors(dict(exp.overrides)).values
     return Context(doc, circuit.flat, circuit.structure, values, exp, data, logged, q_ref, p_ref, w_ref, t_span)
 
 
@@ -228,24 +228,38 @@ def trace_round(k: int, stage: Stage, exp: Experiment, data: Dataset, globals_: 
     column_of = {p.key: smodel.layout.index(p.param) for p in places}
     sbase = _carry(stage.fit, stage.model, smodel)
     scores, consistency = screen(smodel, xs, sbase, places, column_of)
-    decision = decide(smodel, xs, sbase, scores, column_of, exp.spec.trace.top, exp.spec.heldout,
-                      stage.model, stage.fit) if with_heldout else _decide_without_heldout(
-        smodel, xs, sbase, scores, column_of, exp.spec.trace.top)
-    rnd = Round(k, stage, scores, consistency, decision, list(ctx.notes), screening_file, smodel=smodel)
     stage.model.simulations += smodel.simulations
-    return rnd
+    lean: dict[str, Model] = {}
+
+    def candidate_model(score: Score):
+        """The current netlist with this one candidate: the file that would become the augmented netlist."""
+        place = score.place
+        if place.kind == "netlist":
+            cdoc = doc.copy()
+            cdoc.add_parameter(place.param, place.zero)
+            registered()[place.candidate].patch(cdoc, place)
+            file = cdoc.write(out / f"round{k}" / "candidates" / f"{_file_name(place.key)}.yaml",
+                              header=f"{stage.netlist.name} with the candidate {place.key} (parameter at zero)")
+            circuit = Circuit.from_file(file)
+        else:
+            circuit = stage.model.circuit
+        free = Free(place.param, place.zero, place.lower, place.upper, score.step or place.step, place.unit,
+                    "correction" if place.kind == "channel" else "candidate")
+        model = Model(circuit, exp, data, list(globals_) + [free])
+        lean[place.key] = model
+        return model, stage.model.extend(stage.fit.x, model), model.layout.index(place.param)
+
+    decision = decide(scores, exp.spec.trace.top, exp.spec.heldout, stage.model, stage.fit, candidate_model,
+                      with_heldout)
+    for model in lean.values():
+        stage.model.simulations += model.simulations
+    return Round(k, stage, scores, consistency, decision, list(ctx.notes), screening_file, smodel=smodel)
 
 
-def _decide_without_heldout(smodel, xs, sbase, scores, column_of, top):
-    from blocks.calibrate.selection import Decision, candidates_to_refit, refit
+def _file_name(key: str) -> str:
+    import re
 
-    base_chi2 = float(np.sum(smodel.residuals(xs)[sbase.rows] ** 2))
-    refits = sorted((refit(smodel, xs, sbase, s, column_of[s.place.key], base_chi2)
-                     for s in candidates_to_refit(scores, top, sbase.n)), key=lambda r: r.dbic)
-    accepted = next((r for r in refits if r.passes_fit_tests), None)
-    if accepted:
-        accepted.accepted = True
-    return Decision(refits, accepted, [], [], None)
+    return re.sub(r"[^A-Za-z0-9_.-]", "_", key.replace("@", "_at_"))
 
 
 def _carry(res: FitResult, model: Model, smodel: Model) -> FitResult:

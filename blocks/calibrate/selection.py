@@ -1,8 +1,9 @@
 """From scores to a decision: refit the most promising candidates jointly with the free parameters, rank by
 BIC, accept at most one, and say when the data cannot tell candidates apart.
 
-Refit: the candidate's parameter freed beside the current free parameters, warm-started at the fit with
-the candidate at its linearised estimate (clipped into its bounds), same residual rows.
+Refit: in the candidate's own netlist (the current one with this one patch: what would be written as the
+augmented netlist), the candidate's parameter freed beside the current free parameters, warm-started at the
+fit with the candidate at its linearised estimate (clipped into its bounds), same residual rows.
     dBIC = chi^2_new - chi^2_current + ln(n)      (one parameter more; known noise)
 Accepted only if all hold, tried in BIC order until one passes:
     |phi - phi0| > 3 SE, phi inside the candidate's physically plausible range, dBIC < -10, and the
@@ -33,6 +34,7 @@ PARALLEL = 0.99
 @dataclass
 class Refit:
     score: Score
+    model: Model
     fit: FitResult
     phi: float
     se: float
@@ -61,35 +63,41 @@ class Decision:
     base_heldout: HeldOut | None
 
 
-def candidates_to_refit(scores: list[Score], top: int, n: int) -> list[Score]:
+def candidates_to_refit(scores: list[Score], top: int) -> list[Score]:
     """The ``top`` best-scoring screened candidates with a score worth a refit (T > 3.84, p < 5 %)."""
     ranked = sorted((s for s in scores if s.status == "screened" and s.T > 3.84), key=lambda s: -s.T)
     return ranked[:top]
 
 
-def refit(smodel: Model, x: np.ndarray, base: FitResult, score: Score, column: int, base_chi2: float) -> Refit:
+def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Score) -> Refit:
+    """Fit ``model`` (the current model plus the candidate at entry ``column`` of x) from x0, where x0 has
+    the candidate at its zero; the base chi^2 is the same model's at x0."""
     place = score.place
+    rows = base.rows
+    from blocks.calibrate.fit import points_of
+
+    base_chi2 = float(np.sum(model.residuals(x0, points_of(model, rows))[rows] ** 2))
     active = base.active.copy()
     active[column] = True
-    x0 = x.copy()
-    lo, hi = smodel.bounds()
-    x0[column] = float(np.clip(score.phi, lo[column], hi[column]))
-    f = fit(smodel, x0, active, base.rows, max_nfev=40)
+    start = x0.copy()
+    lo, hi = model.bounds()
+    start[column] = float(np.clip(score.phi, lo[column], hi[column]))
+    f = fit(model, start, active, rows, max_nfev=40)
     phi, se = float(f.x[column]), float(f.se[column])
     dchi2 = f.chi2 - base_chi2
     dbic = dchi2 + np.log(f.n)
     lo_p, hi_p = place.plausible
-    plausible = bool(lo_p <= phi <= hi_p)
-    return Refit(score, f, phi, se, float(dchi2), float(dbic), plausible)
+    return Refit(score, model, f, phi, se, float(dchi2), float(dbic), bool(lo_p <= phi <= hi_p))
 
 
-def decide(smodel: Model, x: np.ndarray, base: FitResult, scores: list[Score], column_of: dict, top: int,
-           heldout_spec, base_model: Model, base_fit: FitResult) -> Decision:
-    rows = base.rows
-    base_chi2 = float(np.sum(smodel.residuals(x, None if smodel.data.kind != "steady" else
-                                              np.unique(smodel.row_point[rows]))[rows] ** 2))
-    chosen = candidates_to_refit(scores, top, int(rows.sum()))
-    refits = [refit(smodel, x, base, s, column_of[s.place.key], base_chi2) for s in chosen]
+def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_fit: FitResult,
+           candidate_model, with_heldout: bool = True) -> Decision:
+    """``candidate_model(score)`` gives (model, x0, column) for one candidate (see :func:`refit`)."""
+    chosen = candidates_to_refit(scores, top)
+    refits = []
+    for s in chosen:
+        model, x0, column = candidate_model(s)
+        refits.append(refit(model, x0, column, _aligned(base_fit, base_model, model), s))
     refits.sort(key=lambda r: r.dbic)
     base_ho = None
     accepted = None
@@ -103,12 +111,13 @@ def decide(smodel: Model, x: np.ndarray, base: FitResult, scores: list[Score], c
             rf.reasons.append(f"dBIC = {rf.dbic:.3g} (needs < {DBIC_MAX:g})")
         if rf.reasons or accepted is not None:
             continue
-        if base_ho is None:
-            base_ho = heldout(base_model, base_fit, heldout_spec)
-        rf.heldout = heldout(smodel, rf.fit, heldout_spec)
-        if not rf.heldout.error < base_ho.error:
-            rf.reasons.append(f"held-out error {rf.heldout.error:.3g} is not below {base_ho.error:.3g}")
-            continue
+        if with_heldout:
+            if base_ho is None:
+                base_ho = heldout(base_model, base_fit, heldout_spec)
+            rf.heldout = heldout(rf.model, rf.fit, heldout_spec)
+            if not rf.heldout.error < base_ho.error:
+                rf.reasons.append(f"held-out error {rf.heldout.error:.3g} is not below {base_ho.error:.3g}")
+                continue
         rf.accepted = True
         accepted = rf
     ambiguous, separation = [], []
@@ -117,10 +126,9 @@ def decide(smodel: Model, x: np.ndarray, base: FitResult, scores: list[Score], c
         for rf in refits:
             if rf is best:
                 continue
-            close = rf.passes_fit_tests and rf.dbic - best.dbic < AMBIGUOUS_DBIC
-            if close:
+            if rf.passes_fit_tests and rf.dbic - best.dbic < AMBIGUOUS_DBIC:
                 ambiguous.append(rf.score.place.key)
-                separation += separate(smodel, best, rf)
+                separation += separate(best, rf)
         for s in scores:
             if s is best.score or s.status != "screened" or s.s_perp is None or best.score.s_perp is None:
                 continue
@@ -134,48 +142,60 @@ def decide(smodel: Model, x: np.ndarray, base: FitResult, scores: list[Score], c
     return Decision(refits, accepted, ambiguous, separation, base_ho)
 
 
-def separate(smodel: Model, a: Refit, b: Refit) -> list[str]:
-    """What would tell the fitted alternatives a and b apart: the logged signal they disagree on most
-    (relative to its own spread), and for steady data their predictions at 1.5 times the largest input."""
-    out = []
-    sa = smodel.signals(a.fit.x)
-    sb = smodel.signals(b.fit.x)
-    measured = {c.signal for c in smodel.channels if c.signal}
-    best, name = 0.0, None
-    for k, o in enumerate(smodel.circuit.outputs):
-        diff = np.nanmax(np.abs(sa[:, k] - sb[:, k])) if np.isfinite(sa[:, k]).any() else 0.0
-        scale = np.nanmax(np.abs(sa[:, k])) or 1.0
-        if diff / scale > best and o.name not in measured:
-            best, name = diff / scale, o
-    key_a, key_b = a.score.place.key, b.score.place.key
-    if name is not None and best > 1e-3:
-        k = smodel.circuit.outputs.index(name)
-        from blocks.units import parse_unit
+def _aligned(base: FitResult, base_model: Model, model: Model) -> FitResult:
+    """The base fit's active mask and rows in ``model``'s parameter vector (shared names, same latents)."""
+    names = model.layout.names()
+    old = {n: k for k, n in enumerate(base_model.layout.names())}
+    active = np.array([n in old and bool(base.active[old[n]]) for n in names], dtype=bool)
+    from dataclasses import replace
 
-        factor = parse_unit(name.display_unit).factor
-        d = np.nanmax(np.abs(sa[:, k] - sb[:, k])) / factor
-        out.append(f"{key_a} vs {key_b}: measuring '{name.name}' would separate them (the two fits predict it "
-                   f"up to {d:.3g} {name.display_unit} apart)")
-    if smodel.data.kind == "steady" and smodel.layout.inputs:
-        worst = int(np.argmax(np.abs(smodel.data.measured[smodel.layout.inputs[0]])))
-        pa = _extrapolate(smodel, a.fit.x, worst)
-        pb = _extrapolate(smodel, b.fit.x, worst)
+    return replace(base, active=active)
+
+
+def separate(a: Refit, b: Refit) -> list[str]:
+    """What would tell the fitted alternatives a and b apart: the logged signal (not compared) they disagree
+    on most, relative to its own size, and for steady data their predictions at 1.5 times the largest input."""
+    from blocks.units import parse_unit
+
+    out = []
+    sa = a.model.signals(a.fit.x)
+    sb = b.model.signals(b.fit.x)
+    names_b = {o.name: k for k, o in enumerate(b.model.circuit.outputs)}
+    measured = {c.signal for c in a.model.channels if c.signal}
+    best, which = 0.0, None
+    for k, o in enumerate(a.model.circuit.outputs):
+        if o.name in measured or o.name not in names_b:
+            continue
+        ya, yb = sa[:, k], sb[:, names_b[o.name]]
+        if not (np.isfinite(ya).any() and np.isfinite(yb).any()):
+            continue
+        diff = float(np.nanmax(np.abs(ya - yb)))
+        scale = float(np.nanmax(np.abs(ya))) or 1.0
+        if diff / scale > best:
+            best, which = diff / scale, (o, diff)
+    key_a, key_b = a.score.place.key, b.score.place.key
+    if which is not None and best > 1e-3:
+        o, diff = which
+        out.append(f"{key_a} vs {key_b}: measuring '{o.name}' would separate them (the two fits predict it up "
+                   f"to {diff / parse_unit(o.display_unit).factor:.3g} {o.display_unit} apart)")
+    model = a.model
+    if model.data.kind == "steady" and model.layout.inputs:
+        worst = int(np.argmax(np.abs(model.data.measured[model.layout.inputs[0]])))
+        pa = _extrapolate(a.model, a.fit.x, worst)
+        pb = _extrapolate(b.model, b.fit.x, worst)
         if pa is not None and pb is not None:
             parts = []
-            for c in smodel.channels:
+            for c in model.channels:
                 if c.role == "output":
-                    k = smodel.signal_index[c.signal]
-                    parts.append(f"{c.name} by {abs(pa[k] - pb[k]) / smodel.data.sigma[c.name]:.2g} sigma")
-            out.append(f"{key_a} vs {key_b}: at 1.5 times the largest {smodel.layout.inputs[0]} the two fits "
+                    ka, kb = a.model.signal_index[c.signal], b.model.signal_index[c.signal]
+                    parts.append(f"{c.name} by {abs(pa[ka] - pb[kb]) / model.data.sigma[c.name]:.2g} sigma")
+            out.append(f"{key_a} vs {key_b}: at 1.5 times the largest {model.layout.inputs[0]} the two fits "
                        f"differ in " + ", ".join(parts))
     return out
 
 
-def _extrapolate(smodel: Model, x: np.ndarray, point: int):
+def _extrapolate(model: Model, x: np.ndarray, point: int):
     xp = x.copy()
-    for i in range(len(smodel.layout.inputs)):
-        j = smodel.layout.latent_index(point, i)
-        if i == 0:
-            xp[j] *= 1.5
-    base = smodel._net_overrides(xp)
-    return smodel._steady_point(point, xp, base)
+    j = model.layout.latent_index(point, 0)
+    xp[j] *= 1.5
+    return model._steady_point(point, xp, model._net_overrides(xp))

@@ -12,7 +12,9 @@ parameter that should be constant, refitted group by group.
 - Drift (steady, ``drift:`` parameters): the parameter refitted on each group alone (the other parameters
   held at the global fit, the group's latent inputs free), with the homogeneity chi^2 =
   sum_g (theta_g - theta_w)^2 / se_g^2 on G - 1 degrees of freedom (theta_w the inverse-variance mean)
-  and the spread max - min.
+  and the spread max - min. An estimate that ends on a bound of the parameter is marked and left out of
+  the test (its standard error means nothing there): a drift that pushes a parameter to its bound is
+  reported as such.
 """
 
 from __future__ import annotations
@@ -138,7 +140,8 @@ def drift(model: Model, res: FitResult, names: list[str]) -> dict:
         return out
     for name in names:
         j = model.layout.index(name)
-        est, se, labels = [], [], []
+        est, se, labels, bound = [], [], [], []
+        lo, hi = model.bounds()
         for label, points in groups.items():
             active = np.zeros(len(res.x), dtype=bool)
             active[j] = True
@@ -150,9 +153,11 @@ def drift(model: Model, res: FitResult, names: list[str]) -> dict:
             est.append(g.x[j])
             se.append(g.se[j])
             labels.append(label)
+            span = hi[j] - lo[j] if np.isfinite(hi[j] - lo[j]) else abs(g.x[j]) + 1.0
+            bound.append(bool(min(g.x[j] - lo[j], hi[j] - g.x[j]) < 1e-6 * span))
         est, se = np.array(est), np.array(se)
-        ok = np.isfinite(se) & (se > 0)
-        entry = {"groups": labels, "estimates": est.tolist(), "se": se.tolist(),
+        ok = np.isfinite(se) & (se > 0) & ~np.array(bound)
+        entry = {"groups": labels, "estimates": est.tolist(), "se": se.tolist(), "at_bound": bound,
                  "spread": float(est.max() - est.min()), "global": float(res.x[j]), "global_se": float(res.se[j])}
         if ok.sum() >= 2:
             w = 1.0 / se[ok] ** 2

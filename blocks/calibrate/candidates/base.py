@@ -146,6 +146,19 @@ def series_ports(ctx: Context) -> list[tuple[str, str, bool]]:
     return out
 
 
+def start_pressure(ctx: Context, net: str):
+    """The pressure [Pa] a net starts at: its ``initial``, or the setting of the pressure source holding it
+    (tank, pressure_source: their parameter p), else None (the net's own default, 0)."""
+    if f"{net}.initial" in ctx.values:
+        return float(ctx.values[f"{net}.initial"])
+    for port in ctx.doc.net_ports(net):
+        comp, _, pname = port.partition(".")
+        flat = ctx.flat.components.get(comp)
+        if flat is not None and pname in flat.cls.prescribes and f"{comp}.p" in ctx.values:
+            return float(ctx.values[f"{comp}.p"])
+    return None
+
+
 def hydraulic_pairs(ctx: Context) -> list[tuple[str, str, str]]:
     """(net_a, net_b, component) for each pair of top-level hydraulic nets joined by a top-level component,
     not both held by pressure sources (a leak between them would change nothing measured)."""

@@ -1,14 +1,16 @@
 """Steady flow force on a valve spool: the block's continuous flow-force gain (e.g. spool_relief_valve.c_ff).
 
 Applies to components whose block declares a continuous flow-force parameter (FLOW_FORCE_PARAMS). A block
-with only an integer on/off switch for its flow force (the crane's mcv_vaa: ``flow_force`` 0/1) cannot take
-a zero-parameter patch: it is listed as "not applicable" with the reason, and nothing is added to it.
+with only an integer on/off switch for its flow force cannot take a zero-parameter patch: it is listed as
+"not applicable" with the reason, and nothing is added to it.
 """
 
 from blocks.calibrate.candidates.base import Candidate, Place, register, safe
 
-FLOW_FORCE_PARAMS = ("c_ff",)
-"""Names of continuous flow-force gains (zero = no flow force) that this candidate drives."""
+FLOW_FORCE_PARAMS = {"c_ff": (-0.5, 0.5), "flow_force": (-3.0, 3.0)}
+"""Continuous flow-force gains (zero = no flow force) this candidate drives, with their plausible ranges:
+spool_relief_valve.c_ff (the force ratio of 2*Cd*Cv*cos(theta)*A*dp over the spool area) and
+mcv_vaa.flow_force (the scale of the thesis's eq. 3.13, 1 = the thesis's hand fit)."""
 
 
 @register
@@ -16,7 +18,8 @@ class FlowForce(Candidate):
     name = "flow_force"
     title = "steady flow force"
     description = ("the steady flow force on a valve spool through the block's continuous gain (c_ff of "
-                   "spool_relief_valve: p_F = c_ff*s*dp over the spool area); zero gain: none")
+                   "spool_relief_valve: p_F = c_ff*s*dp over the spool area; flow_force of mcv_vaa: the scale of "
+                   "eq. 3.13); zero gain: none")
 
     def places(self, ctx):
         out = []
@@ -32,8 +35,9 @@ class FlowForce(Candidate):
                 continue
             p = names[gain]
             base = ctx.values.get(f"{comp}.{gain}", 0.0)
+            lo, hi = FLOW_FORCE_PARAMS[gain]
             out.append(Place(self.name, f"{self.name}@{comp}", f"on the spool of {comp}", f"cal_cff_{safe(comp)}",
-                             p.unit, 0.0, p.lower - base, p.upper - base, 1e-3, (-0.5 - base, 0.5 - base),
+                             p.unit, 0.0, p.lower - base, p.upper - base, 1e-3, (lo - base, hi - base),
                              target={"component": comp, "param": gain}, one_sided=False,
                              meaning=f"added to {comp}.{gain} (declared {base:g})",
                              plot_against=ctx.first_input_of_unit("m^3/s")))

@@ -1,0 +1,304 @@
+"""The calibration report: ``report.md`` (for people), ``report.json`` (the same numbers for programs) and
+``residuals.png`` (residuals against the variable the found effect depends on, before and after), all
+written atomically into the output folder beside the screening and augmented netlists.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+
+from blocks.result import atomic_write_figure, atomic_write_text
+from blocks.units import UnitError, parse_unit
+
+
+def _factor(unit: str) -> float:
+    try:
+        return parse_unit(unit).factor if unit not in ("", "SI") else 1.0
+    except UnitError:
+        return 1.0
+
+
+def _g(value, digits: int = 4) -> str:
+    if value is None or (isinstance(value, float) and not np.isfinite(value)):
+        return "-"
+    return f"{value:.{digits}g}"
+
+
+def channel_table(cal) -> list[dict]:
+    first, final = cal.initial, cal.final
+    rows = []
+    for ch in cal.exp.channels:
+        f = _factor(ch.unit)
+        row = {"channel": ch.name, "role": ch.role, "unit": ch.unit, "noise": cal.data.sigma[ch.name] / f,
+               "noise_source": cal.data.noise_notes[ch.name]}
+        for tag, stage in (("before", first), ("after", final)):
+            cs = next((c for c in stage.lof.channels if c.name == ch.name), None) if stage else None
+            row[f"rmse_{tag}"] = cs.rmse / f if cs else None
+            row[f"chi2nu_{tag}"] = cs.reduced if cs else None
+            if cs and cs.ljung_box_p is not None:
+                row[f"ljung_box_p_{tag}"] = cs.ljung_box_p
+                row[f"xcorr_{tag}"] = cs.xcorr_max
+            ho = stage.heldout if stage else None
+            row[f"heldout_rmse_{tag}"] = (ho.rmse.get(ch.name) / f) if ho and ch.name in ho.rmse else None
+        rows.append(row)
+    return rows
+
+
+def parameter_table(cal) -> list[dict]:
+    first, final = cal.initial, cal.final
+    rows = []
+    for k, g in enumerate(final.model.layout.globals):
+        f = _factor(g.unit)
+        row = {"name": g.name, "kind": g.kind, "unit": g.unit or "SI", "final": final.fit.x[k] / f,
+               "final_se": final.fit.se[k] / f}
+        try:
+            j = first.model.layout.index(g.name)
+            row.update({"start": first.model.layout.globals[j].initial / f, "declared_fit": first.fit.x[j] / f,
+                        "declared_se": first.fit.se[j] / f})
+        except KeyError:
+            row.update({"start": None, "declared_fit": None, "declared_se": None})
+        rows.append(row)
+    return rows
+
+
+def drift_table(cal) -> dict:
+    out = {}
+    for tag, stage in (("before", cal.initial), ("after", cal.final)):
+        for name, d in (stage.lof.drift if stage else {}).items():
+            unit = next((g.unit for g in stage.model.layout.globals if g.name == name), "")
+            f = _factor(unit)
+            out.setdefault(name, {"unit": unit or "SI"})[tag] = {
+                "groups": d["groups"], "estimates": [e / f for e in d["estimates"]], "se": [s / f for s in d["se"]],
+                "at_bound": d.get("at_bound", [False] * len(d["groups"])),
+                "spread": d["spread"] / f, "chi2": d.get("chi2"), "dof": d.get("dof"), "p_value": d.get("p_value")}
+    return out
+
+
+def screening_rows(rnd) -> list[dict]:
+    rows = []
+    for s in sorted(rnd.scores, key=lambda s: (-s.T, s.status)):
+        p = s.place
+        rows.append({"candidate": p.candidate, "key": p.key, "where": p.where, "status": s.status,
+                     "score": s.T, "p_value": s.p_value, "estimate": s.phi, "unit": p.unit,
+                     "absorbed": s.absorbed, "absorbed_by": s.absorbed_by, "note": s.note})
+    return rows
+
+
+def refit_rows(rnd) -> list[dict]:
+    return [{"key": r.score.place.key, "value": r.phi, "se": r.se, "z": r.z, "unit": r.score.place.unit,
+             "dchi2": r.dchi2, "dbic": r.dbic, "plausible": r.plausible,
+             "heldout_error": r.heldout.error if r.heldout else None, "accepted": r.accepted, "reasons": r.reasons,
+             "meaning": r.score.place.meaning}
+            for r in rnd.decision.refits]
+
+
+def build(cal) -> dict:
+    exp, data = cal.exp, cal.data
+    return {
+        "experiment": str(exp.file), "netlist": str(exp.netlist), "data": str(exp.data),
+        "kind": data.kind, "points": data.n, "groups": list(data.groups),
+        "verdict": cal.verdict, "unexplained_discrepancy": cal.unexplained,
+        "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u}
+                    for k, t, w, p, v, s, u in cal.accepted],
+        "overall": {tag: ({"chi2": st.lof.chi2, "n": st.lof.n, "p": st.lof.p, "nu": st.lof.nu,
+                           "chi2_nu": st.lof.reduced, "p_value": st.lof.p_value, "bic": st.fit.bic(),
+                           "heldout_error": st.heldout.error if st.heldout else None,
+                           "heldout_scheme": st.heldout.scheme if st.heldout else None,
+                           "unsettled_points": st.fit.unsettled, "failed_runs": st.fit.failures[:5]}
+                          if st else None)
+                    for tag, st in (("before", cal.initial), ("after", cal.final))},
+        "channels": channel_table(cal),
+        "parameters": parameter_table(cal) if cal.final else [],
+        "drift": drift_table(cal),
+        "rounds": [{"round": r.index, "netlist": str(r.stage.netlist), "screening_netlist": str(r.screening_file),
+                    "screening_reproduces_fit_within_sigma": r.consistency,
+                    "augmented_netlist": str(r.augmented_file) if r.augmented_file else None,
+                    "notes": r.notes, "screening": screening_rows(r), "refits": refit_rows(r),
+                    "ambiguous": r.decision.ambiguous, "separation": r.decision.separation,
+                    "heldout_error": r.stage.heldout.error if r.stage.heldout else None}
+                   for r in cal.rounds],
+        "simulations": cal.simulations, "seconds": cal.seconds,
+    }
+
+
+def markdown(cal, info: dict) -> str:
+    exp, data = cal.exp, cal.data
+    L = [f"# Calibration: {Path(exp.file).name}", ""]
+    if exp.spec.description:
+        L += [exp.spec.description.strip(), ""]
+    L += [f"- netlist: `{exp.netlist}`", f"- data: `{exp.data}` ({data.n} "
+          + ("steady points" if data.kind == "steady" else "samples of a time series")
+          + (f" in groups {', '.join(data.groups)}" if data.kind == "steady" and len(data.groups) > 1 else "") + ")",
+          f"- imposed inputs: {', '.join(c.name for c in exp.inputs) or 'none'} (errors-in-variables: the true "
+          f"inputs are fitted as latent values); compared: {', '.join(c.name for c in exp.outputs)}", ""]
+    L += ["## Verdict", ""] + [f"- {v}" if not v.startswith("  ") else f"  - {v.strip()}" for v in cal.verdict] + [""]
+    L += ["## Fit, before (declared model) and after (augmented model)", ""]
+    ov = info["overall"]
+    for tag in ("before", "after"):
+        o = ov[tag]
+        if o:
+            L.append(f"- {tag}: chi^2 = {_g(o['chi2'])} on nu = {o['nu']} (chi^2/nu = {_g(o['chi2_nu'], 3)}, "
+                     f"p = {_g(o['p_value'], 2)}), BIC = {_g(o['bic'], 6)}, held-out error "
+                     f"{_g(o['heldout_error'], 3)} ({o['heldout_scheme']}); unsettled points: "
+                     f"{o['unsettled_points']}")
+    L += ["", "| channel | unit | noise | RMSE before | chi^2/nu before | RMSE after | chi^2/nu after | "
+              "held-out RMSE before | held-out RMSE after |", "|---|---|---|---|---|---|---|---|---|"]
+    for r in info["channels"]:
+        L.append(f"| {r['channel']} ({r['role']}) | {r['unit']} | {_g(r['noise'], 3)} | {_g(r['rmse_before'], 3)} | "
+                 f"{_g(r['chi2nu_before'], 3)} | {_g(r['rmse_after'], 3)} | {_g(r['chi2nu_after'], 3)} | "
+                 f"{_g(r['heldout_rmse_before'], 3)} | {_g(r['heldout_rmse_after'], 3)} |")
+    L.append("")
+    L.append("Noise: " + "; ".join(f"{r['channel']}: {r['noise_source']}" for r in info["channels"]) + ".")
+    if data.kind == "time":
+        L += ["", "Residual whiteness and correlation with the inputs (outputs):", "",
+              "| channel | Ljung-Box p before | after | max cross-correlation before | after |", "|---|---|---|---|---|"]
+        for r in info["channels"]:
+            if r["role"] == "output":
+                L.append(f"| {r['channel']} | {_g(r.get('ljung_box_p_before'), 2)} | {_g(r.get('ljung_box_p_after'), 2)} "
+                         f"| {_g(r.get('xcorr_before'), 2)} | {_g(r.get('xcorr_after'), 2)} |")
+    L += ["", "## Effects found", ""]
+    if info["effects"]:
+        L += ["| effect | where | parameter | value | SE | unit |", "|---|---|---|---|---|---|"]
+        for e in info["effects"]:
+            L.append(f"| {e['title']} | {e['where']} | `{e['parameter']}` | {_g(e['value'])} | {_g(e['se'], 2)} | {e['unit']} |")
+        L += ["", "Sensor corrections (offset, gain) act on the logged signal in post-processing, not in the netlist; "
+                  "they are written to `experiment_augmented.yaml` under `corrections:`."]
+    else:
+        L.append("None accepted.")
+    L += ["", "## Parameters: how they moved", "",
+          "| parameter | kind | unit | start | declared fit | SE | final | SE |", "|---|---|---|---|---|---|---|---|"]
+    for p in info["parameters"]:
+        L.append(f"| `{p['name']}` | {p['kind']} | {p['unit']} | {_g(p['start'])} | {_g(p['declared_fit'])} | "
+                 f"{_g(p['declared_se'], 2)} | {_g(p['final'])} | {_g(p['final_se'], 2)} |")
+    if info["drift"]:
+        L += ["", "## Drift: parameters refitted per group", ""]
+        for name, d in info["drift"].items():
+            L.append(f"`{name}` [{d['unit']}]:")
+            L.append("")
+            groups = d.get("before", d.get("after"))["groups"]
+            L += ["| group | " + " | ".join(groups) + " | spread | homogeneity chi^2 (dof), p |",
+                  "|---" * (len(groups) + 3) + "|"]
+            for tag in ("before", "after"):
+                if tag in d:
+                    t = d[tag]
+                    cells = [f"{_g(e)} (at its bound)" if b else f"{_g(e)} +- {_g(s, 2)}"
+                             for e, s, b in zip(t["estimates"], t["se"], t["at_bound"])]
+                    test = (f"{_g(t['chi2'], 3)} ({t['dof']}), p = {_g(t['p_value'], 2)}" if t["chi2"] is not None
+                            else "not testable (estimates on a bound)")
+                    L.append(f"| {tag} | " + " | ".join(cells) + f" | {_g(t['spread'], 3)} | {test} |")
+            L.append("")
+    for r in info["rounds"]:
+        L += [f"## Round {r['round']}: screening", "",
+              f"Model: `{r['netlist']}`. Screening netlist `{r['screening_netlist']}` (every candidate at every "
+              f"place, parameters at zero) reproduces the fit within {r['screening_reproduces_fit_within_sigma']:.3g} "
+              f"sigma. Score T: the first-order drop of chi^2 after the free parameters absorb what they can "
+              f"(~chi^2_1 if the candidate is absent).", ""]
+        for note in r["notes"]:
+            L.append(f"- {note}")
+        L += ["", "| rank | candidate | where | status | score T | p | linear estimate | unit | absorbed | note |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
+        for k, s in enumerate(r["screening"], start=1):
+            L.append(f"| {k} | {s['candidate']} | {s['where']} | {s['status']} | {_g(s['score'], 4)} | "
+                     f"{_g(s['p_value'], 2)} | {_g(s['estimate'], 3)} | {s['unit']} | {100 * s['absorbed']:.1f} % | "
+                     f"{s['note']} |")
+        L += ["", "Refitted (ranked by BIC):", "",
+              "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | accepted | why not |",
+              "|---|---|---|---|---|---|---|---|---|"]
+        for f in r["refits"]:
+            L.append(f"| {f['key']} | {_g(f['value'])} | {_g(f['se'], 2)} | {_g(f['z'], 3)} | {_g(f['dbic'], 4)} | "
+                     f"{f['plausible']} | {_g(f['heldout_error'], 3)} | {f['accepted']} | {'; '.join(f['reasons'])} |")
+        if r["ambiguous"]:
+            L += ["", "Ambiguous: " + ", ".join(r["ambiguous"])] + [f"- {s}" for s in r["separation"]]
+        if r["augmented_netlist"]:
+            L += ["", f"Augmented netlist: `{r['augmented_netlist']}`"]
+        L.append("")
+    L += ["## Plots", "", "![residuals](residuals.png)", "",
+          f"Runs: {cal.simulations} simulations; time: "
+          + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
+    return "\n".join(L)
+
+
+def plot_residuals(cal, path: Path) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    first, final = cal.initial, cal.final
+    outputs = [c for c in cal.exp.outputs]
+    against = "t" if cal.data.kind == "time" else (cal.exp.inputs[0].name if cal.exp.inputs else None)
+    if cal.accepted:
+        key = cal.accepted[0][0]
+        for rnd in cal.rounds:
+            acc = rnd.decision.accepted
+            if acc is not None and acc.score.place.key == key:
+                against = acc.score.place.plot_against
+    fig, axes = plt.subplots(len(outputs), 2, figsize=(11, 2.4 + 2.2 * len(outputs)), squeeze=False, sharex="col")
+    for col, (tag, stage) in enumerate((("before (declared model)", first), ("after", final))):
+        for row, ch in enumerate(outputs):
+            ax = axes[row, col]
+            ci = [c.name for c in stage.model.channels].index(ch.name)
+            sel = stage.model.row_channel == ci
+            r = stage.fit.r[sel]
+            if against == "t" or against is None:
+                x = cal.data.t if cal.data.kind == "time" else np.arange(cal.data.n)
+                xlabel = "t [s]" if cal.data.kind == "time" else "point"
+            else:
+                unit = next(c.unit for c in cal.exp.channels if c.name == against)
+                x = cal.data.measured[against] / _factor(unit)
+                xlabel = f"{against} [{unit}] (measured)"
+            if cal.data.kind == "steady":
+                for label, idx in cal.data.groups.items():
+                    ax.plot(x[idx], r[idx], "o", ms=4, label=f"{label}")
+                if row == 0 and len(cal.data.groups) > 1:
+                    ax.legend(fontsize="x-small", title=cal.exp.spec.group, title_fontsize="x-small")
+            else:
+                ax.plot(x, r, ".", ms=1.5)
+            ax.axhline(0, color="k", lw=0.6)
+            for level in (-2, 2):
+                ax.axhline(level, color="grey", lw=0.5, ls="--")
+            ax.set_ylabel(f"{ch.name}: residual / sigma", fontsize="small")
+            if row == 0:
+                ax.set_title(f"{tag}: chi^2/nu = {stage.lof.reduced:.3g}", fontsize="small")
+            if row == len(outputs) - 1:
+                ax.set_xlabel(xlabel)
+            ax.grid(True, alpha=0.3)
+    found = "; ".join(f"{t} {w}" for _, t, w, *_ in cal.accepted) or "no effect accepted"
+    fig.suptitle(f"{Path(cal.exp.file).name}: normalised residuals ({found})", fontsize="medium")
+    fig.tight_layout()
+    atomic_write_figure(fig, path)
+    plt.close(fig)
+
+
+def write(cal, out: Path) -> dict[str, Path]:
+    out = Path(out)
+    info = build(cal)
+    paths = {"json": out / "report.json", "markdown": out / "report.md", "plot": out / "residuals.png"}
+    atomic_write_text(paths["json"], json.dumps(_finite(info), indent=1, default=_json_default) + "\n")
+    plot_residuals(cal, paths["plot"])
+    atomic_write_text(paths["markdown"], markdown(cal, info))
+    return paths
+
+
+def _finite(value):
+    """NaN and infinities as null (strict JSON)."""
+    if isinstance(value, dict):
+        return {k: _finite(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_finite(v) for v in value]
+    if isinstance(value, (float, np.floating)) and not np.isfinite(value):
+        return None
+    return value
+
+
+def _json_default(value):
+    if isinstance(value, (np.floating, np.integer)):
+        return value.item()
+    if isinstance(value, np.ndarray):
+        return value.tolist()
+    if isinstance(value, Path):
+        return str(value)
+    return str(value)

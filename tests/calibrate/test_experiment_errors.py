@@ -1,0 +1,117 @@
+"""Bad experiment files and data: one located line, exit code 2, nothing written (vphs calibrate)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import pytest
+import yaml
+
+import cli
+from blocks.datafile import DataFileError, read_table
+
+ROOT = Path(__file__).resolve().parents[2]
+RIG = ROOT / "netlists" / "experiments" / "circuits" / "relief_rig.yaml"
+
+GOOD = {
+    "netlist": str(RIG),
+    "data": "data.csv",
+    "group": "setting",
+    "inputs": {"Q": {"parameter": "Q_in", "noise": "0.5 l/min"}},
+    "outputs": {"p1": {"signal": "p1", "noise": "0.2 bar"}},
+    "groups": {"1": {"p_set": "30 bar"}},
+    "free": {"k_s": {"initial": "50 bar", "lower": "5 bar", "upper": "500 bar"}},
+}
+DATA = "setting,Q [l/min],p1 [bar]\n1,20,40\n1,40,50\n"
+
+
+def run(tmp_path, capsys, spec=None, text=None, data=DATA):
+    (tmp_path / "data.csv").write_text(data)
+    path = tmp_path / "exp.yaml"
+    path.write_text(text if text is not None else yaml.safe_dump(spec, sort_keys=False))
+    code = cli.main(["calibrate", str(path), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    return code, err, path
+
+
+def changed(**edits):
+    spec = yaml.safe_load(yaml.safe_dump(GOOD))
+    for dotted, value in edits.items():
+        node = spec
+        keys = dotted.split(".")
+        for k in keys[:-1]:
+            node = node[k]
+        if value is None:
+            del node[keys[-1]]
+        else:
+            node[keys[-1]] = value
+    return spec
+
+
+CASES = {
+    "unknown key": (changed(**{"heldout": {"scheme": "leave_one_group_out", "kk": 3}}), r"unknown key 'kk'"),
+    "missing outputs": (changed(outputs=None), r"missing 'outputs'"),
+    "unknown parameter": (changed(**{"free": {"k_z": {"initial": 1}}}), r"unknown parameter 'k_z'.*did you mean k_s"),
+    "unknown signal": (changed(**{"outputs": {"p1": {"signal": "p9", "noise": "0.2 bar"}}}), r"no logged signal 'p9'"),
+    "noise in a wrong unit": (changed(**{"outputs": {"p1": {"signal": "p1", "noise": "0.2 l/min"}}}), r"wrong unit"),
+    "free value in a wrong unit": (changed(**{"free": {"k_s": {"initial": "50 mm"}}}), r"k_s: wrong unit"),
+    "start outside the bounds": (changed(**{"free": {"k_s": {"initial": "1 bar", "lower": "5 bar"}}}),
+                                 r"outside"),
+    "input without parameter or signal": (changed(**{"inputs": {"Q": {"noise": "1 l/min"}}}), r"give 'parameter'"),
+    "drift of a fixed parameter": (changed(drift=["A_ret"]), r"drift: 'A_ret' is not a free parameter"),
+    "missing netlist file": (changed(netlist="nowhere.yaml"), r"netlist: file not found"),
+}
+
+
+@pytest.mark.parametrize("name", list(CASES))
+def test_bad_experiment_is_one_located_line(tmp_path, capsys, name):
+    spec, pattern = CASES[name]
+    code, err, path = run(tmp_path, capsys, spec)
+    assert code == 2, err
+    assert len(err.splitlines()) == 1 and "Traceback" not in err
+    assert re.search(rf"{re.escape(str(path))}:\d+:\d+: ", err) or re.search(rf"{re.escape(str(path))}:\d+: ", err), err
+    assert re.search(pattern, err), err
+    assert not (tmp_path / "out").exists()  # nothing written
+
+
+def test_bad_data_names_file_row_and_column(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, GOOD, data="setting,Q [l/min],p1 [bar]\n1,20,40\n1,abc,50\n")
+    assert code == 2 and re.search(r"data\.csv:3:2: column 'Q \[l/min\]': 'abc' is not a number", err), err
+    code, err, _ = run(tmp_path, capsys, GOOD, data="setting,Q [l/min]\n1,20\n")
+    assert code == 2 and "no column 'p1'" in err, err
+
+
+def test_time_series_must_not_go_back(tmp_path, capsys):
+    spec = {"netlist": str(ROOT / "netlists" / "experiments" / "circuits" / "drive_line_open.yaml"),
+            "data": "data.csv", "inputs": {"cmd": {"signal": "cmd", "latent": ["u1"], "noise": 0.01}},
+            "outputs": {"pA": {"signal": "pA", "noise": "1 bar"}}}
+    code, err, _ = run(tmp_path, capsys, spec, data="t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n0.1,0,20\n")
+    assert code == 2 and re.search(r"data\.csv:4:1: column 't \[s\]': time repeats", err), err
+
+
+def test_yaml_syntax_error_is_located(tmp_path, capsys):
+    code, err, path = run(tmp_path, capsys, text="netlist: [unclosed\n")
+    assert code == 2 and str(path) in err and len(err.splitlines()) == 1
+
+
+# ---------------------------------------------------------------- the data file's unitless columns
+def test_named_group_reads_unitless_numbers_and_text(tmp_path):
+    path = tmp_path / "crack.csv"
+    path.write_text("# table 3.2\nsetting,pilot_ratio,p1 [bar],set_screw\n1,2.8,27.8,std -1 turn\n2,2.8,42.2,std\n")
+    table = read_table(path, group="setting")
+    assert table.labels == ["1", "2"]
+    assert table.units["pilot_ratio"] == "1" and list(table.columns["pilot_ratio"]) == [2.8, 2.8]
+    assert table.columns["p1"][0] == pytest.approx(27.8e5)
+    assert table.text == {"set_screw": ["std -1 turn", "std"]} and "set_screw" not in table.columns
+    with pytest.raises(DataFileError, match=r"crack\.csv:2: no grouping column 'run'"):
+        read_table(path, group="run")
+    # without a named group the old rule holds: a second column without unit is an error
+    with pytest.raises(DataFileError, match="has no unit in brackets"):
+        read_table(path)
+
+
+def test_the_thesis_crack_table_reads_with_its_group_named():
+    table = read_table(ROOT.parent / "shared" / "data" / "mcv_vf250_crack.csv", group="setting")
+    assert table.columns["crack"] == pytest.approx([95.4e5, 152.0e5, 211.5e5])
+    assert table.text["set_screw"][1] == "std"

@@ -1,0 +1,97 @@
+"""The score test against its closed form: for a linear model the score statistic T equals the drop of chi^2
+that refitting with the candidate brings, and the linearised estimate equals the refitted one."""
+
+from __future__ import annotations
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from blocks.calibrate.candidates.base import Place
+from blocks.calibrate.fit import FitResult
+from blocks.calibrate.screening import screen
+
+
+class LinearModel:
+    """r(x) = A x - y: columns 0..1 the free parameters, 2.. the candidates."""
+
+    def __init__(self, A, y):
+        self.A, self.y = A, y
+        self.data = SimpleNamespace(kind="time")
+        self.layout = SimpleNamespace(names=lambda: [f"theta{k}" for k in range(A.shape[1])])
+
+    def residuals(self, x, points=None):
+        return self.A @ x - self.y
+
+
+def base_fit(model, n_free):
+    A = model.A[:, :n_free]
+    theta, *_ = np.linalg.lstsq(A, model.y, rcond=None)
+    x = np.zeros(model.A.shape[1])
+    x[:n_free] = theta
+    r = model.residuals(x)
+    active = np.zeros(model.A.shape[1], dtype=bool)
+    active[:n_free] = True
+    rows = np.ones(len(r), dtype=bool)
+    return x, FitResult(x, active, rows, r, A, float(r @ r), len(r), n_free, np.eye(n_free),
+                        np.full(len(x), np.nan), 0, "", 0, [])
+
+
+def place(key, one_sided=False, upper=np.inf):
+    return Place("test", key, key, key, "1", 0.0, 0.0 if one_sided else -np.inf, upper, 1.0, (-1e9, 1e9),
+                 one_sided=one_sided)
+
+
+def test_score_equals_the_chi2_drop_of_the_refit_for_a_linear_model():
+    rng = np.random.default_rng(3)
+    n = 200
+    t = np.linspace(0, 1, n)
+    A = np.column_stack([np.ones(n), t, t ** 2, np.sin(7 * t)])
+    y = 1.0 + 2.0 * t + 0.8 * t ** 2 + rng.normal(size=n)  # the t^2 candidate is present, sin(7t) is not
+    model = LinearModel(A, y)
+    x, base = base_fit(model, 2)
+    scores, consistency = screen(model, x, base, [place("quad"), place("sine")], {"quad": 2, "sine": 3})
+    assert consistency == 0.0
+    for score, col in zip(scores, (2, 3)):
+        full = A[:, [0, 1, col]]
+        coef, *_ = np.linalg.lstsq(full, y, rcond=None)
+        chi2_refit = float(np.sum((full @ coef - y) ** 2))
+        assert score.status == "screened"
+        assert score.T == pytest.approx(base.chi2 - chi2_refit, rel=1e-9)
+        assert score.phi == pytest.approx(coef[2], rel=1e-9)
+    assert scores[0].p_value < 1e-3 < scores[1].p_value or scores[1].T < 10
+
+
+def test_absorbed_candidate_is_not_identifiable_and_names_what_absorbs_it():
+    n = 50
+    t = np.linspace(0, 1, n)
+    A = np.column_stack([np.ones(n), t, 3.0 - 2.0 * t])  # the candidate is a combination of the free columns
+    model = LinearModel(A, 1.0 + t)
+    x, base = base_fit(model, 2)
+    (score,), _ = screen(model, x, base, [place("same")], {"same": 2})
+    assert score.status == "not identifiable"
+    assert set(score.absorbed_by) == {"theta0", "theta1"} and score.absorbed > 0.999
+
+
+def test_one_sided_candidate_pulled_below_zero_scores_nothing():
+    rng = np.random.default_rng(4)
+    n = 100
+    t = np.linspace(0, 1, n)
+    A = np.column_stack([np.ones(n), t ** 2])
+    y = 1.0 - 5.0 * t ** 2 + rng.normal(size=n)  # unit noise; the data want a negative loss
+    model = LinearModel(A, y)
+    x, base = base_fit(model, 1)
+    (score,), _ = screen(model, x, base, [place("loss", one_sided=True)], {"loss": 1})
+    assert score.T == 0.0 and "wrong sign" in score.note
+    (two_sided,), _ = screen(model, x, base, [place("loss2")], {"loss2": 1})
+    assert two_sided.T > 100 and two_sided.phi < 0
+
+
+def test_a_candidate_without_effect_is_reported_as_such():
+    n = 20
+    A = np.column_stack([np.ones(n), np.zeros(n)])
+    model = LinearModel(A, np.ones(n))
+    x, base = base_fit(model, 1)
+    (score,), _ = screen(model, x, base, [place("none")], {"none": 1})
+    assert score.status == "no effect"

@@ -1,0 +1,102 @@
+"""Lack-of-fit statistics against hand computations; where the candidates apply in a netlist and what their
+patches write."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from blocks.calibrate.candidates import registered
+from blocks.calibrate.data import load_data
+from blocks.calibrate.experiment import load_experiment
+from blocks.calibrate.model import Model
+from blocks.calibrate.patch import NetlistDoc
+from blocks.calibrate.run import Stage, context, latent_globals
+from blocks.calibrate.stats import ljung_box, max_cross_correlation
+from blocks.circuit import Circuit
+
+ROOT = Path(__file__).resolve().parents[2]
+EXPERIMENTS = ROOT / "netlists" / "experiments"
+
+
+def test_ljung_box_by_hand():
+    e = np.array([1.0, -2.0, 0.5, 3.0, -1.0, 0.0, 2.0, -0.5, 1.5, -3.0])
+    d = e - e.mean()
+    rho = [np.sum(d[k:] * d[:-k]) / np.sum(d * d) for k in (1, 2)]
+    n = e.size
+    q = n * (n + 2) * (rho[0] ** 2 / (n - 1) + rho[1] ** 2 / (n - 2))
+    got, p = ljung_box(e, h=2)
+    assert got == pytest.approx(q, rel=1e-12)
+    from scipy.stats import chi2
+
+    assert p == pytest.approx(chi2.sf(q, 2), rel=1e-12)
+
+
+def test_ljung_box_tells_white_from_coloured_noise():
+    rng = np.random.default_rng(0)
+    white = rng.normal(size=2000)
+    ar = np.zeros(2000)
+    for k in range(1, 2000):
+        ar[k] = 0.5 * ar[k - 1] + white[k]
+    assert ljung_box(white)[1] > 0.01 and ljung_box(ar)[1] < 1e-10
+
+
+def test_cross_correlation_finds_the_lag():
+    rng = np.random.default_rng(1)
+    u = rng.normal(size=500)
+    e = np.roll(u, 3) + 0.1 * rng.normal(size=500)  # e(k) = u(k - 3)
+    rho, lag = max_cross_correlation(e, u)
+    assert lag == 3 and rho > 0.95
+
+
+def _ctx(name):
+    exp = load_experiment(EXPERIMENTS / name)
+    data = load_data(exp)
+    circuit = Circuit.from_file(exp.netlist, compile=False)
+    model = Model.__new__(Model)
+    model.circuit = circuit
+    model.settings = circuit.settings
+    stage = Stage(exp.netlist, model, None, None)
+    return context(stage, exp, data, NetlistDoc.read(exp.netlist)), exp
+
+
+def test_places_in_the_relief_rig():
+    ctx, exp = _ctx("relief_rig_steady.yaml")
+    keys = {p.key for cand in registered().values() for p in cand.places(ctx)}
+    expected = {"flow_force@relief", "spool_friction@relief", "leakage@R-V", "leakage@P1-V", "leakage@P1-T",
+                "leakage@R-T", "extra_volume@P1", "extra_volume@V", "extra_volume@R", "line_loss_turbulent@meter.a",
+                "line_loss_turbulent@meter.b", "line_loss_laminar@relief.a", "line_loss_laminar@ret.b",
+                "sensor_offset@Q", "sensor_gain@p3"}
+    assert expected <= keys
+    # no mechanical nets and no signal nets in this rig: no friction, no delay
+    assert not any(k.split("@")[0] in ("coulomb_friction", "transport_delay", "stribeck_friction") for k in keys)
+    # the tank is never a series place, nor are ports of blocks inserted by calibration
+    assert not any(k.endswith("@tank.port") or "@cal_" in k for k in keys)
+
+
+def test_places_in_the_drive_line_and_a_series_patch(tmp_path):
+    ctx, exp = _ctx("drive_line_series.yaml")
+    places = {p.key: p for cand in registered().values() for p in cand.places(ctx)}
+    assert {"coulomb_friction@shaft", "viscous_friction@shaft", "stribeck_friction@shaft", "transport_delay@u",
+            "transport_delay@xs", "leakage@A-B", "extra_volume@A"} <= set(places)
+    assert "leakage@P-T" not in places  # both held by pressure sources: nothing measured would change
+    doc = NetlistDoc.read(exp.netlist)
+    place = places["line_loss_turbulent@motors.a"]
+    doc.add_parameter(place.param, 0.0)
+    registered()[place.candidate].patch(doc, place)
+    written = yaml.safe_load(doc.write(tmp_path / "patched.yaml").read_text())
+    comp = "cal_loss_motors_a"
+    assert written["components"][comp] == {"type": "line_loss", "params": {"k": place.param}}
+    node = written["nets"]["cal_n_motors_a"]
+    assert node["ports"] == ["motors.a", f"{comp}.b"] and node["volume"] == 1e-6
+    assert node["initial"] == pytest.approx(20e5)  # starts with its net
+    assert f"{comp}.a" in written["nets"]["A"]["ports"] and "motors.a" not in written["nets"]["A"]["ports"]
+    assert written["nets"]["A"]["volume"] == "(V_line) - 1e-06 m^3"  # the node's oil is taken from the net
+    # the patched file at zero is the declared circuit (same signals within the regularisation)
+    r0 = Circuit.from_file(exp.netlist).simulate()
+    r1 = Circuit.from_file(tmp_path / "patched.yaml").simulate()
+    for name, sigma in (("pA", 1e5), ("speed", 5 * 2 * np.pi / 60)):
+        assert np.max(np.abs(np.interp(r0.t, r1.t, r1[name]) - r0[name])) < 0.05 * sigma
