@@ -390,9 +390,9 @@ def table(results: list[dict]) -> str:
              "candidate); **chi2/nu ok** = final chi^2/nu in [0.8, 1.25]; **held-out ok** = held-out RMSE <= 1.1 x "
              "the truth model's; **claimed** = any effect accepted; **unexpl** = 'unexplained discrepancy remains'.",
              "",
-             "| case | planted | lambda | seeds | right | rec | chi2/nu ok | held-out ok | claimed | unexpl | "
-             "errors | median s | criterion | pass |",
-             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+             "| case | planted | lambda | seeds | right | rec | chi2/nu ok | mean chi2/nu | held-out ok | "
+             "median held-out ratio | claimed | unexpl | errors | median s | criterion | pass |",
+             "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for case in CASES:
         rows = by_case.get(case.name, [])
         if not rows:
@@ -409,6 +409,8 @@ def table(results: list[dict]) -> str:
         claimed = [bool(r["accepted"]) for r in good]
         unexpl = [bool(r["unexplained"]) for r in good]
         med = np.median([r["seconds"] for r in good]) if good else float("nan")
+        chi_mean = np.mean([r["chi2nu_after"] for r in good if r["chi2nu_after"] is not None]) if good else np.nan
+        ho_med = np.median([r["heldout_ratio"] for r in good if r["heldout_ratio"] is not None]) if good else np.nan
         n = len(good)
         if case.expect == "found":
             crit = "right >= 90 %, rec >= 90 %, chi2/nu ok, held-out ok"
@@ -424,8 +426,9 @@ def table(results: list[dict]) -> str:
             crit = "unexplained in >= 90 %"
             ok = n > 0 and np.mean(unexpl) >= 0.9
         lines.append(f"| {case.name} | {planted} | {lam} | {n} | {pct(right) if case.plants else '-'} | "
-                     f"{pct(rec) if case.plants else '-'} | {pct(chi_ok)} | {pct(ho_ok)} | {pct(claimed)} | "
-                     f"{pct(unexpl)} | {errors} | {med:.0f} | {crit} | {'PASS' if ok else 'FAIL'} |")
+                     f"{pct(rec) if case.plants else '-'} | {pct(chi_ok)} | {chi_mean:.3g} | {pct(ho_ok)} | "
+                     f"{ho_med:.3g} | {pct(claimed)} | {pct(unexpl)} | {errors} | {med:.0f} | {crit} | "
+                     f"{'PASS' if ok else 'FAIL'} |")
     lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
     return "\n".join(lines)
@@ -488,6 +491,7 @@ def main(argv=None) -> int:
             _SIZES[case.name] = setup(case.kind).size(case)
             print(f"{case.name}: sized {_SIZES[case.name]} in {time.perf_counter() - started:.0f} s", flush=True)
         jobs += [(case.name, s, _SIZES[case.name]) for s in seeds]
+    jobs.sort(key=lambda job: job[1])  # seed by seed over the cases: an interrupted run covers every case
     print(f"{len(jobs)} runs", flush=True)
     import multiprocessing
 

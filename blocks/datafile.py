@@ -160,22 +160,8 @@ def _read_named_group(file: str, header_line: int, header: list[str], body: list
     names: list[str] = []
     units: dict[str, str | None] = {}
     for col, cell in enumerate(header, start=1):
-        m = _HEADER.match(cell)
-        if not m or not m.group("name"):
-            raise DataFileError(file, f"column header '{cell}': expected 'name [unit]'", header_line, col)
-        name = m.group("name").strip()
-        if name in names:
-            raise DataFileError(file, f"column '{name}' appears twice in the header", header_line, col)
+        name, unit = _header_cell(file, header_line, col, cell, names)
         names.append(name)
-        unit = m.group("unit")
-        if unit is not None:
-            unit = _DIMENSIONLESS.get(unit.strip(), unit.strip())
-            if unit is None:
-                raise DataFileError(file, f"column '{cell}': empty unit; write [1] for a plain number", header_line, col)
-            try:
-                parse_unit(unit)
-            except UnitError as exc:
-                raise DataFileError(file, f"column '{cell}': {exc}", header_line, col) from None
         units[name] = unit
     if group not in names:
         raise DataFileError(file, f"no grouping column '{group}' (columns: {', '.join(names)})", header_line)
@@ -224,12 +210,7 @@ def _read_header(file: str, line_no: int, header: list[str]) -> tuple[list[str],
     units: dict[str, str] = {}
     group = None
     for col, cell in enumerate(header, start=1):
-        m = _HEADER.match(cell)
-        if not m or not m.group("name"):
-            raise DataFileError(file, f"column header '{cell}': expected 'name [unit]'", line_no, col)
-        name, unit = m.group("name").strip(), m.group("unit")
-        if name in names:
-            raise DataFileError(file, f"column '{name}' appears twice in the header", line_no, col)
+        name, unit = _header_cell(file, line_no, col, cell, names)
         names.append(name)
         if unit is None:
             if group is not None:
@@ -238,16 +219,28 @@ def _read_header(file: str, line_no: int, header: list[str]) -> tuple[list[str],
                                           f"'{name} [1]' for a plain number", line_no, col)
             group = name
             continue
-        unit = unit.strip()
-        unit = _DIMENSIONLESS.get(unit, unit)
-        if unit is None:
-            raise DataFileError(file, f"column '{cell}': empty unit; write [1] for a plain number", line_no, col)
-        try:
-            parse_unit(unit)
-        except UnitError as exc:
-            raise DataFileError(file, f"column '{cell}': {exc}", line_no, col) from None
         units[name] = unit
     return names, units, group
+
+
+def _header_cell(file: str, line_no: int, col: int, cell: str, seen: list[str]) -> tuple[str, str | None]:
+    """(name, unit) of one header cell, the unit checked (None: no brackets); errors located."""
+    m = _HEADER.match(cell)
+    if not m or not m.group("name"):
+        raise DataFileError(file, f"column header '{cell}': expected 'name [unit]'", line_no, col)
+    name, unit = m.group("name").strip(), m.group("unit")
+    if name in seen:
+        raise DataFileError(file, f"column '{name}' appears twice in the header", line_no, col)
+    if unit is None:
+        return name, None
+    unit = _DIMENSIONLESS.get(unit.strip(), unit.strip())
+    if unit is None:
+        raise DataFileError(file, f"column '{cell}': empty unit; write [1] for a plain number", line_no, col)
+    try:
+        parse_unit(unit)
+    except UnitError as exc:
+        raise DataFileError(file, f"column '{cell}': {exc}", line_no, col) from None
+    return name, unit
 
 
 def _number(file: str, line_no: int, col: int, header: str, cell: str) -> float:

@@ -40,6 +40,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
+from blocks.netlist.flatten import _data_path  # the document path of a pydantic error location
 from blocks.netlist.yaml_source import Located, read_yaml
 from blocks.units import UnitError, nearest, parse_unit, quantity, split_quantity
 
@@ -189,22 +190,6 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
         raise located.error(path, f"{where}: {message}") from None
-
-
-def _data_path(data, loc) -> tuple:
-    path, node = [], data
-    for item in loc:
-        if isinstance(node, dict) and item in node:
-            path.append(item)
-            node = node[item]
-        elif isinstance(node, list) and isinstance(item, int) and 0 <= item < len(node):
-            path.append(item)
-            node = node[item]
-        elif isinstance(node, dict) and isinstance(item, str) and item[:1].islower() and item not in (
-                "str", "float", "int", "list", "union", "function-after"):
-            path.append(item)
-            break
-    return tuple(path)
 
 
 def _model_at(path: tuple):

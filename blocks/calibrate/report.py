@@ -107,7 +107,9 @@ def build(cal) -> dict:
                            "chi2_nu": st.lof.reduced, "p_value": st.lof.p_value, "bic": st.fit.bic(),
                            "heldout_error": st.heldout.error if st.heldout else None,
                            "heldout_scheme": st.heldout.scheme if st.heldout else None,
-                           "unsettled_points": st.fit.unsettled, "failed_runs": st.fit.failures[:5]}
+                           "unsettled_points": st.fit.unsettled, "failed_runs": st.fit.failures[:5],
+                           "block_means_chi2": st.lof.blocks_chi2, "block_means_dof": st.lof.blocks_dof,
+                           "block_means_p": st.lof.blocks_p}
                           if st else None)
                     for tag, st in (("before", cal.initial), ("after", cal.final))},
         "channels": channel_table(cal),
@@ -153,6 +155,11 @@ def markdown(cal, info: dict) -> str:
     L.append("")
     L.append("Noise: " + "; ".join(f"{r['channel']}: {r['noise_source']}" for r in info["channels"]) + ".")
     if data.kind == "time":
+        for tag in ("before", "after"):
+            o = ov[tag]
+            if o and o["block_means_chi2"] is not None:
+                L.append(f"- {tag}: block means of the output residuals chi^2 = {_g(o['block_means_chi2'])} on "
+                         f"{o['block_means_dof']} (p = {_g(o['block_means_p'], 2)}): a slow misfit shows here first")
         L += ["", "Residual whiteness and correlation with the inputs (outputs):", "",
               "| channel | Ljung-Box p before | after | max cross-correlation before | after |", "|---|---|---|---|---|"]
         for r in info["channels"]:

@@ -12,7 +12,8 @@ Round k (k = 1, 2, 3):
    touched) with the effect as a real block or parameter, at its fitted value, and go on; else stop.
 After the last round the final model is refitted from the written file (so what is reported is what the
 file does). The verdict: the effects found, the ambiguities, and "unexplained discrepancy remains" when
-the final fit is still significantly worse than the noise (chi^2, residual whiteness or drift, p < 0.001).
+the final fit is still significantly worse than the noise (chi^2, block means, residual whiteness or drift;
+p < 0.01 for the family of tests, Bonferroni).
 """
 
 from __future__ import annotations
@@ -127,7 +128,8 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         prev_model = acc.model
         x_prev = acc.fit.x
         write_augmented_experiment(exp, cal, netlist, globals_, acc, out)
-    if cal.accepted:
+    if cal.rounds and cal.rounds[-1].decision.accepted is not None:
+        # the last trace accepted an effect: fit the written augmented model once more (no trace after it)
         t0 = time.perf_counter()
         final = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
         final.heldout = heldout(final.model, final.fit, exp.spec.heldout) if with_heldout else None
@@ -136,6 +138,10 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         cal.final = final
     else:
         cal.final = cal.rounds[-1].stage if cal.rounds else None
+    # the effects as the final model has them (a later effect can move an earlier one's value)
+    for k, (key, title, where, param, value, se, unit) in enumerate(cal.accepted):
+        j = cal.final.model.layout.index(param)
+        cal.accepted[k] = (key, title, where, param, float(cal.final.fit.x[j]), float(cal.final.fit.se[j]), unit)
     cal.verdict, cal.unexplained = verdict(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal

@@ -6,6 +6,11 @@ parameter that should be constant, refitted group by group.
   proportion to the channel's rows (the latent inputs' rows and parameters cancel in the count);
   p-value of the whole chi^2 with nu degrees of freedom.
 - Ljung-Box: Q = n (n + 2) sum_{k=1..h} rho_k^2 / (n - k), h = min(20, n/5), against chi^2_h.
+- Block means (time series): a misfit that is slow compared with the sampling spreads its chi^2 over
+  thousands of samples, where chi^2/nu barely moves and the autocorrelations stay small; the means of the
+  normalised residuals over blocks of m consecutive samples gather it: z_b = sum_{k in b} r_k / sqrt(m) is
+  N(0, 1) for white residuals, and chi^2_blocks = sum over blocks and output channels of z_b^2 is tested
+  against chi^2 with (blocks x channels - p) degrees of freedom; m = max(5, n // 64).
 - Cross-correlation of the residual with each measured input: rho(l) for |l| <= h samples, against the
   99 % bound 2.58/sqrt(n) of white residuals (the input is not prewhitened: a strongly coloured input
   widens the true bound; read it as a pointer, not a test).
@@ -54,17 +59,28 @@ class LackOfFit:
     p_value: float
     channels: list[ChannelStats] = field(default_factory=list)
     drift: dict = field(default_factory=dict)
+    blocks_chi2: float | None = None  # time series: chi^2 of the block means of the output residuals
+    blocks_dof: int | None = None
+    blocks_p: float | None = None
 
-    def significant(self, alpha: float = 1e-3) -> list[str]:
-        """Reasons the misfit is significant at level alpha (empty: consistent with the noise)."""
+    def significant(self, alpha: float = 0.01) -> list[str]:
+        """Reasons the misfit is significant (empty: consistent with the noise). Every test made (chi^2,
+        block means, Ljung-Box per output channel, drift per parameter) is held at alpha / (number of
+        tests) (Bonferroni), so that a model that is right is called wrong in at most alpha of the cases."""
+        tests = 1 + (self.blocks_p is not None) + sum(c.ljung_box_p is not None for c in self.channels) \
+            + sum(d.get("p_value") is not None for d in self.drift.values())
+        level = alpha / tests
         out = []
-        if self.p_value < alpha:
+        if self.p_value < level:
             out.append(f"chi^2/nu = {self.reduced:.3g} (p = {self.p_value:.2g})")
+        if self.blocks_p is not None and self.blocks_p < level:
+            out.append(f"slow misfit: block means of the residuals chi^2 = {self.blocks_chi2:.4g} on "
+                       f"{self.blocks_dof} (p = {self.blocks_p:.2g})")
         for c in self.channels:
-            if c.ljung_box_p is not None and c.ljung_box_p < alpha and c.reduced > 1.25:
+            if c.ljung_box_p is not None and c.ljung_box_p < level:
                 out.append(f"{c.name}: residuals not white (Ljung-Box p = {c.ljung_box_p:.2g})")
         for name, d in self.drift.items():
-            if d.get("p_value") is not None and d["p_value"] < alpha:
+            if d.get("p_value") is not None and d["p_value"] < level:
                 out.append(f"{name} drifts between groups (p = {d['p_value']:.2g})")
         return out
 
@@ -96,7 +112,30 @@ def lack_of_fit(model: Model, res: FitResult) -> LackOfFit:
                     best, lag = rho, k * float(np.median(np.diff(model.data.t)))
             cs.xcorr_max, cs.xcorr_lag, cs.xcorr_bound = best, lag, bound
         chans.append(cs)
-    return LackOfFit(res.chi2, n_total, res.p, nu, res.reduced, float(sps.chi2.sf(res.chi2, nu)), chans)
+    lof = LackOfFit(res.chi2, n_total, res.p, nu, res.reduced, float(sps.chi2.sf(res.chi2, nu)), chans)
+    if model.data.kind == "time":
+        lof.blocks_chi2, lof.blocks_dof, lof.blocks_p = block_means(model, res)
+    return lof
+
+
+def block_means(model: Model, res: FitResult) -> tuple[float, int, float]:
+    """chi^2 of the block means of the output residuals (module docstring)."""
+    n = model.data.n
+    m = max(5, n // 64)
+    total, blocks = 0.0, 0
+    for ci, ch in enumerate(model.channels):
+        if ch.role != "output":
+            continue
+        sel = res.rows & (model.row_channel == ci)
+        r = res.r[sel]
+        k = r.size // m
+        if k == 0:
+            continue
+        z = r[: k * m].reshape(k, m).sum(axis=1) / np.sqrt(m)
+        total += float(np.sum(z * z))
+        blocks += k
+    dof = max(blocks - res.p, 1)
+    return total, dof, float(sps.chi2.sf(total, dof))
 
 
 def ljung_box(e: np.ndarray, h: int | None = None) -> tuple[float, float]:

@@ -198,5 +198,8 @@ def mechanical_nets(ctx: Context, kinds=(PortKind.ROTATIONAL, PortKind.TRANSLATI
     return out
 
 
-def finite(x) -> float:
-    return float(x) if np.isfinite(x) else 0.0
+def add_to_param(doc, component: str, param: str, name: str) -> None:
+    """Make ``component.param`` its written value plus the netlist parameter ``name`` (just ``name`` when the
+    netlist leaves it at 0 or unset): a block's own gain patched with a zero-parameter increment."""
+    old = doc.param_text(component, param)
+    doc.set_param(component, param, name if old in (None, 0, 0.0, "0") else f"({old}) + {name}")

@@ -5,7 +5,7 @@ with only an integer on/off switch for its flow force cannot take a zero-paramet
 "not applicable" with the reason, and nothing is added to it.
 """
 
-from blocks.calibrate.candidates.base import Candidate, Place, register, safe
+from blocks.calibrate.candidates.base import Candidate, Place, add_to_param, register, safe
 
 FLOW_FORCE_PARAMS = {"c_ff": (-0.5, 0.5), "flow_force": (-3.0, 3.0)}
 """Continuous flow-force gains (zero = no flow force) this candidate drives, with their plausible ranges:
@@ -44,6 +44,4 @@ class FlowForce(Candidate):
         return out
 
     def patch(self, doc, place):
-        comp, gain = place.target["component"], place.target["param"]
-        old = doc.param_text(comp, gain)
-        doc.set_param(comp, gain, place.param if old in (None, 0, 0.0, "0") else f"({old}) + {place.param}")
+        add_to_param(doc, place.target["component"], place.target["param"], place.param)

@@ -6,7 +6,7 @@ not do that (it vanishes at rest). Blocks without a spool force balance that tak
 crane's mcv_vaa: 2nd-order spool response to a static equilibrium) cannot take this patch: "not applicable".
 """
 
-from blocks.calibrate.candidates.base import Candidate, Place, register, safe
+from blocks.calibrate.candidates.base import Candidate, Place, add_to_param, register, safe
 
 FRICTION_PARAMS = ("p_fric",)
 
@@ -37,6 +37,4 @@ class SpoolFriction(Candidate):
         return out
 
     def patch(self, doc, place):
-        comp, param = place.target["component"], place.target["param"]
-        old = doc.param_text(comp, param)
-        doc.set_param(comp, param, place.param if old in (None, 0, 0.0, "0") else f"({old}) + {place.param}")
+        add_to_param(doc, place.target["component"], place.target["param"], place.param)
