@@ -40,7 +40,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
-from blocks.netlist.flatten import _data_path  # the document path of a pydantic error location
+from blocks.netlist.yaml_source import document_path
 from blocks.netlist.yaml_source import Located, read_yaml
 from blocks.units import UnitError, nearest, parse_unit, quantity, split_quantity
 
@@ -178,7 +178,7 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
         return ExperimentSpec.model_validate(located.data), located
     except ValidationError as exc:
         first = exc.errors()[0]
-        path = _data_path(located.data, first["loc"])
+        path = document_path(located.data, first["loc"])
         where = ".".join(str(p) for p in path) or "experiment"
         message = first["msg"]
         if first["type"] == "extra_forbidden":

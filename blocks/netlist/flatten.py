@@ -20,7 +20,7 @@ from blocks.block import ACROSS, Block, Param, PortKind
 from blocks.errors import NetlistError
 from blocks.netlist import spec
 from blocks.netlist.parameters import Entry, ParameterTable, make_array_entry, make_entry
-from blocks.netlist.yaml_source import Located, read_bounded, read_yaml
+from blocks.netlist.yaml_source import Located, document_path, read_bounded, read_yaml
 from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity
 
 MAX_SUBSYSTEM_DEPTH = 8
@@ -102,7 +102,7 @@ def _load_spec(located: Located) -> spec.Netlist:
         return spec.Netlist.model_validate(located.data)
     except ValidationError as exc:
         first = exc.errors()[0]
-        path = _data_path(located.data, first["loc"])
+        path = document_path(located.data, first["loc"])
         where = ".".join(str(p) for p in path) or "netlist"
         message = first["msg"]
         if first["type"] == "extra_forbidden":
@@ -117,23 +117,6 @@ def _load_spec(located: Located) -> spec.Netlist:
             message = ("a net is a list of '<component>.<port>' strings, or {ports: [...], volume:, initial:, "
                        "bulk_modulus:}")
         raise located.error(path, f"{where}: {message}") from None
-
-
-def _data_path(data, loc) -> tuple:
-    """The part of a pydantic error location that indexes into the document (drops union tags)."""
-    path, node = [], data
-    for item in loc:
-        if isinstance(node, dict) and item in node:
-            path.append(item)
-            node = node[item]
-        elif isinstance(node, list) and isinstance(item, int) and 0 <= item < len(node):
-            path.append(item)
-            node = node[item]
-        elif isinstance(node, dict) and isinstance(item, str) and item not in node and item[:1].islower() \
-                and item not in ("str", "float", "int", "list", "function-after", "union"):
-            path.append(item)  # a key that should be there (missing) or is unknown
-            break
-    return tuple(path)
 
 
 def _parent_model(path: tuple):

@@ -149,3 +149,27 @@ def _scalar(node, loader, located):
     if isinstance(value, (bytes, bytearray)) or type(value).__module__ == "datetime":
         return str(node.value)
     return value
+
+
+_PYDANTIC_TAGS = {"str", "float", "int", "list", "dict", "function-after", "function-before", "union"}
+
+
+def document_path(data, loc, known_fields=None) -> tuple:
+    """The part of a pydantic error location that indexes into the document (union tags dropped).
+
+    A last key that is not in the document (missing, or unknown) is kept when it is a field name: one of
+    ``known_fields`` if given, else any lower-case name that is not a pydantic type tag."""
+    path, node = [], data
+    for item in loc:
+        if isinstance(node, dict) and item in node:
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, list) and isinstance(item, int) and 0 <= item < len(node):
+            path.append(item)
+            node = node[item]
+        elif isinstance(node, dict) and isinstance(item, str) and item not in node and (
+                item in known_fields if known_fields is not None
+                else item[:1].islower() and item not in _PYDANTIC_TAGS):
+            path.append(item)  # a key that should be there (missing) or is unknown
+            break
+    return tuple(path)

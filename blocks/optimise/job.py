@@ -55,7 +55,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
-from blocks.netlist.yaml_source import Located, read_yaml
+from blocks.netlist.yaml_source import Located, document_path, read_yaml
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
@@ -264,7 +264,7 @@ def _located(located: Located, exc: ValidationError, prefix: tuple, model=None) 
     """The first pydantic error as 'file:line:col: where: what' (the style of the netlist loader)."""
     errors = exc.errors()
     first = max(errors, key=lambda e: len(e["loc"]))  # of a union's branches, the one that got furthest
-    path = prefix + _data_path(_get(located.data, prefix), first["loc"])
+    path = prefix + document_path(_get(located.data, prefix), first["loc"], _ALL_FIELDS)
     where = ".".join(str(p) for p in path) or "job"
     message = first["msg"]
     if path[:2] == ("sweep", "parameters") and len(path) == 3:
@@ -284,22 +284,6 @@ def _get(data, path):
     for key in path:
         data = data[key]
     return data
-
-
-def _data_path(data, loc) -> tuple:
-    """The part of a pydantic error location that indexes into the document (union tags dropped)."""
-    path, node = [], data
-    for item in loc:
-        if isinstance(node, dict) and item in node:
-            path.append(item)
-            node = node[item]
-        elif isinstance(node, list) and isinstance(item, int) and 0 <= item < len(node):
-            path.append(item)
-            node = node[item]
-        elif isinstance(node, dict) and isinstance(item, str) and item not in node and item in _ALL_FIELDS:
-            path.append(item)  # a key that should be there (missing) or is unknown
-            break
-    return tuple(path)
 
 
 def _parent_model(path: tuple):
