@@ -79,7 +79,8 @@ def drift_table(cal) -> dict:
 
 def screening_rows(rnd) -> list[dict]:
     rows = []
-    for s in sorted(rnd.scores, key=lambda s: (-s.T, s.status)):
+    order = {"screened": 0, "not identifiable": 1, "no effect": 2}
+    for s in sorted(rnd.scores, key=lambda s: (order.get(s.status, 3), -s.T)):
         p = s.place
         rows.append({"candidate": p.candidate, "key": p.key, "where": p.where, "status": s.status,
                      "score": s.T, "p_value": s.p_value, "estimate": s.phi, "unit": p.unit,
@@ -207,10 +208,14 @@ def markdown(cal, info: dict) -> str:
             L.append(f"- {note}")
         L += ["", "| rank | candidate | where | status | score T | p | linear estimate | unit | absorbed | note |",
               "|---|---|---|---|---|---|---|---|---|---|"]
-        for k, s in enumerate(r["screening"], start=1):
-            L.append(f"| {k} | {s['candidate']} | {s['where']} | {s['status']} | {_g(s['score'], 4)} | "
-                     f"{_g(s['p_value'], 2)} | {_g(s['estimate'], 3)} | {s['unit']} | {100 * s['absorbed']:.1f} % | "
-                     f"{s['note']} |")
+        rank = 0
+        for s in r["screening"]:  # only screened candidates are ranked; absorbed or ineffective ones are not
+            rank += s["status"] == "screened"
+            shown = str(rank) if s["status"] == "screened" else "-"
+            score = _g(s["score"], 4) if s["status"] == "screened" else "-"
+            L.append(f"| {shown} | {s['candidate']} | {s['where']} | {s['status']} | {score} | "
+                     f"{_g(s['p_value'], 2) if s['status'] == 'screened' else '-'} | {_g(s['estimate'], 3)} | "
+                     f"{s['unit']} | {100 * s['absorbed']:.1f} % | {s['note']} |")
         L += ["", "Refitted (ranked by BIC):", "",
               "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | accepted | why not |",
               "|---|---|---|---|---|---|---|---|---|"]

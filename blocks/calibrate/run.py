@@ -317,7 +317,8 @@ def augmented_header(exp: Experiment, cal: Calibration, netlist: Path) -> str:
 def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path, globals_: list[Free], acc,
                                out: Path) -> Path:
     """The experiment file for the augmented model: same data, the new netlist, the accepted parameters
-    free beside the declared ones, sensor corrections as found."""
+    free beside the declared ones (every free parameter starting at its fitted value, SI), sensor
+    corrections fixed at their fitted values."""
     import os
 
     data = dict(exp.located.data)
@@ -333,14 +334,19 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
         gt = dict(data["group_table"])
         gt["file"] = rel(base / exp.spec.group_table.file)
         data["group_table"] = gt
-    free = dict(data.get("free") or {})
+    free = {name: dict(spec or {}) for name, spec in (data.get("free") or {}).items()}
     corrections = dict(data.get("corrections") or {})
+    fitted = {g.name: float(acc.fit.x[k]) for k, g in enumerate(acc.model.layout.globals)}
+    for name in free:  # start where this calibration ended (SI)
+        if name in fitted:
+            free[name]["initial"] = fitted[name]
     for g in globals_:
+        value = fitted.get(g.name, float(g.initial))
         if g.kind == "candidate":
-            free[g.name] = {"initial": float(g.initial), "lower": float(g.lower), "upper": float(g.upper)}
+            free[g.name] = {"initial": value, "lower": float(g.lower), "upper": float(g.upper)}
         elif g.kind == "correction":
             what, ch = g.name.split(":", 1)
-            corrections.setdefault(ch, {})[what] = float(g.initial)
+            corrections.setdefault(ch, {})[what] = value
     data["free"] = free
     if corrections:
         data["corrections"] = corrections
