@@ -2,15 +2,20 @@
 
 Every executor takes a batch of designs (dicts of SI parameter values) and yields ``(position, record)``
 as each evaluation finishes (in any order), so the caller can log it at once. The parallel executors
-submit each load case of each design as a task of its own and yield a design when its last case is back. The evaluation itself is
-:func:`blocks.optimise.evaluate.evaluate_design`; each worker process loads the circuit once
-(``Circuit.from_file``, compiled code from the disk cache) and keeps it for every later evaluation.
+submit each load case of each design as a task of its own and yield a design when its last case is back.
+The evaluation itself is :func:`blocks.optimise.evaluate.evaluate_design`; each process loads the circuit
+once (``Circuit.from_file``, compiled code from the disk cache) and keeps it for every later evaluation.
 
 - ``serial``: in this process, one after another.
-- ``local`` (default): a pool of worker processes, one per core unless ``workers`` says otherwise.
-  Workers are forked from this process when it runs no other thread (they inherit the loaded circuit:
-  no start-up cost), spawned otherwise (each loads the circuit once, about a second). Workers ignore
-  Ctrl-C; the job stops them.
+- ``local`` (default): one process per core -- the job's own process and ``workers - 1`` worker
+  processes, each joined to it by a pipe of its own. The job's process hands a task to every idle worker,
+  evaluates the next one itself, then collects what came back; so a batch of p designs on p cores costs
+  one pipe round trip per worker (tens of microseconds) and no core waits for a dispatcher. (A
+  ``concurrent.futures`` pool passes every task through a queue, a feeder thread and a management thread:
+  about 1-2 ms a batch, a third of a 3 ms evaluation.) Workers are forked from this process when it runs
+  no other thread (they inherit the loaded circuit: no start-up cost), spawned otherwise (each loads the
+  circuit once, about a second). Workers ignore Ctrl-C (the job stops them) and end when the job's process
+  is gone. A worker that dies fails the task it held (the job goes on with the others).
 - ``dask``: a Dask distributed cluster at ``scheduler`` (``tcp://host:8786``) or an existing
   ``distributed.Client``. The job's evaluation spec is sent to every worker once; the netlist path must
   be readable on the workers (a shared file system), and each worker process keeps its circuit.
@@ -18,6 +23,7 @@ submit each load case of each design as a task of its own and yield a design whe
 
 from __future__ import annotations
 
+import contextlib
 import multiprocessing
 import os
 import signal
@@ -34,6 +40,24 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
+@contextlib.contextmanager
+def interrupt_after_evaluation():
+    """Ctrl-C while this process evaluates ends the job after the evaluation, not inside it: raised inside
+    the compiled integrator, KeyboardInterrupt surfaces as a SystemError that would look like a failed
+    design. Evaluations take milliseconds to seconds; a second Ctrl-C waits as well."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    pending = []
+    previous = signal.signal(signal.SIGINT, lambda *_: pending.append(True))
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    if pending:
+        raise KeyboardInterrupt
+
+
 class SerialExecutor:
     kind = "serial"
 
@@ -43,7 +67,9 @@ class SerialExecutor:
 
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         for position, design in enumerate(designs):
-            yield position, evaluate_design(self.spec, design)
+            with interrupt_after_evaluation():
+                record = evaluate_design(self.spec, design)
+            yield position, record
 
     def close(self) -> None:
         pass
@@ -78,12 +104,30 @@ def _orphan_watch(parent: int) -> None:
     os._exit(1)
 
 
-def _ready(_) -> int:
-    return os.getpid()
+def _failed_case(spec: EvalSpec, k: int, error: str) -> dict:
+    return {"case": spec.cases[k][0], "terms": None, "cost": None, "warnings": [], "error": error,
+            "seconds": 0.0, "pid": None}
 
 
-def _worker_task(design: dict, k: int) -> dict:
-    return evaluate_case(_WORKER_SPEC, design, k)
+def _worker_loop(connection, spec: EvalSpec, parent: int, warm: bool, cpu: int | None) -> None:
+    """A local worker: answer ``(tag, design, k)`` with ``(tag, evaluate_case(...))`` until told to stop."""
+    if cpu is not None:
+        os.sched_setaffinity(0, {cpu})
+    _worker_start(spec, parent, warm)
+    connection.send(("ready", os.getpid()))
+    while True:
+        try:
+            message = connection.recv()
+        except (EOFError, OSError):  # the job's process closed its end
+            return
+        if message is None:
+            return
+        tag, design, k = message
+        try:
+            part = evaluate_case(spec, design, k)
+        except BaseException as exc:  # evaluate_case records errors itself; this is a last resort
+            part = _failed_case(spec, k, f"internal error in worker {os.getpid()}: {type(exc).__name__}: {exc}")
+        connection.send((tag, part))
 
 
 class _Assembler:
@@ -97,43 +141,128 @@ class _Assembler:
         return combine_cases(self.spec, self.parts[i]) if len(self.parts[i]) == len(self.spec.cases) else None
 
 
+class _Worker:
+    def __init__(self, process, connection):
+        self.process, self.connection, self.task = process, connection, None
+
+
 class LocalExecutor:
-    """A pool of worker processes (see the module docstring)."""
+    """The job's own process and ``workers - 1`` worker processes (see the module docstring)."""
 
     kind = "local"
 
     def __init__(self, spec: EvalSpec, workers: int | None = None):
-        from concurrent.futures import ProcessPoolExecutor
-
         self.spec = spec
         self.workers = workers or cores()
         fork_ok = "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
-        if fork_ok:
-            warm_up(spec)  # loaded (and its compiled code read from the cache) once here; forked workers inherit it
+        warm_up(spec)  # this process evaluates too; forked workers inherit the loaded circuit
         context = multiprocessing.get_context("fork" if fork_ok else "spawn")
-        self.pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=_worker_start,
-                                        initargs=(spec, os.getpid(), not fork_ok))
-        # start the workers now, before the job starts threads of its own (the log's fsync thread), so that
-        # they are forked from a process with one thread; and so that their start-up is not in an evaluation
-        list(self.pool.map(_ready, range(self.workers)))
+        cpus = self._pin_cpus()
+        self.pool: list[_Worker] = []
+        # started now, before the job starts threads of its own (the log's fsync thread), so that they are
+        # forked from a process with one thread; and so that their start-up is not in an evaluation
+        for _ in range(self.workers - 1):
+            ours, theirs = context.Pipe()
+            cpu = cpus[len(self.pool) + 1] if cpus else None
+            process = context.Process(target=_worker_loop, args=(theirs, spec, os.getpid(), not fork_ok, cpu),
+                                      daemon=True)
+            process.start()
+            theirs.close()
+            self.pool.append(_Worker(process, ours))
+        for worker in self.pool:
+            worker.connection.recv()  # "ready"
+
+    def _pin_cpus(self) -> list[int] | None:
+        """When the job takes every core it may run on, one process per core, pinned: this process to the
+        first, worker j to the (j+1)-th. Unpinned, Linux wakes a worker on the core of the process that
+        woke it and the job's process waits for a core of its own again: about 0.5 ms per task handed
+        out, measured here (bench/optimise.py). The job's own affinity is given back at close."""
+        self.affinity = None
+        if not hasattr(os, "sched_setaffinity"):
+            return None
+        cpus = sorted(os.sched_getaffinity(0))
+        if len(cpus) != self.workers or self.workers < 2:
+            return None
+        self.affinity = set(cpus)
+        os.sched_setaffinity(0, {cpus[0]})
+        return cpus
+
+    def _lost(self, worker: _Worker) -> str:
+        worker.process.join(timeout=1.0)
+        self.pool.remove(worker)
+        return f"worker process {worker.process.pid} died (exit code {worker.process.exitcode})"
+
+    def _drain(self) -> None:
+        """Wait out the tasks a previous batch left running (the caller stopped reading it)."""
+        for worker in [w for w in self.pool if w.task is not None]:
+            try:
+                worker.connection.recv()
+                worker.task = None
+            except (EOFError, OSError):
+                self._lost(worker)
 
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
-        from concurrent.futures import as_completed
+        from collections import deque
+        from multiprocessing.connection import wait
 
-        futures = {self.pool.submit(_worker_task, design, k): i
-                   for i, design in enumerate(designs) for k in range(len(self.spec.cases))}
+        self._drain()
+        tasks = deque((i, k) for i in range(len(designs)) for k in range(len(self.spec.cases)))
         assembler = _Assembler(self.spec, len(designs))
-        try:
-            for future in as_completed(futures):
-                record = assembler.add(futures[future], future.result())
+
+        def dispatch() -> None:
+            for worker in list(self.pool):
+                if worker.task is None and tasks:
+                    i, k = tasks[0]
+                    try:
+                        worker.connection.send(((i, k), designs[i], k))
+                    except (BrokenPipeError, OSError):  # died while idle: the task stays for the others
+                        self._lost(worker)
+                        continue
+                    worker.task = tasks.popleft()
+
+        def collect(timeout: float | None) -> Iterator[tuple[int, dict]]:
+            busy = {w.connection: w for w in self.pool if w.task is not None}
+            for connection in wait(list(busy), timeout):
+                worker = busy[connection]
+                i, k = worker.task
+                try:
+                    _, part = connection.recv()
+                except (EOFError, OSError):
+                    part = _failed_case(self.spec, k, self._lost(worker))
+                worker.task = None
+                record = assembler.add(i, part)
                 if record is not None:
-                    yield futures[future], record
-        finally:
-            for future in futures:
-                future.cancel()
+                    yield i, record
+
+        while tasks or any(w.task is not None for w in self.pool):
+            dispatch()
+            if tasks:  # every worker is busy: this process takes the next task itself
+                i, k = tasks.popleft()
+                with interrupt_after_evaluation():
+                    part = evaluate_case(self.spec, designs[i], k)
+                record = assembler.add(i, part)
+                if record is not None:
+                    yield i, record
+                yield from collect(0)
+            else:
+                yield from collect(None)
 
     def close(self) -> None:
-        self.pool.shutdown(wait=True, cancel_futures=True)
+        for worker in self.pool:
+            try:
+                worker.connection.send(None)
+            except (BrokenPipeError, OSError):
+                pass
+        for worker in self.pool:
+            worker.process.join(timeout=2.0)
+            if worker.process.is_alive():  # still in a long simulation
+                worker.process.terminate()
+                worker.process.join(timeout=2.0)
+            worker.connection.close()
+        self.pool = []
+        if self.affinity is not None:
+            os.sched_setaffinity(0, self.affinity)
+            self.affinity = None
 
 
 class DaskExecutor:
