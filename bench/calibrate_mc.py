@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -386,9 +385,17 @@ def table(results: list[dict]) -> str:
              "`vphs calibrate` with held-out errors (leave one group out; 4 contiguous blocks), at most three traces.",
              "",
              "Columns: **right** = the planted effect accepted as the best by BIC in its round, or in the reported "
-             "ambiguity set of the accepted one; **rec** = final estimate within 3 SE of the planted value (same "
-             "candidate); **chi2/nu ok** = final chi^2/nu in [0.8, 1.25]; **held-out ok** = held-out RMSE <= 1.1 x "
-             "the truth model's; **claimed** = any effect accepted; **unexpl** = 'unexplained discrepancy remains'.",
+             "ambiguity set of the accepted one; **rec** = final estimate within 3 SE of the planted value, judged "
+             "in the seeds where the planted place itself was accepted; **chi2/nu ok** = final chi^2/nu in "
+             "[0.8, 1.25]; **held-out ok** = held-out RMSE (pooled over the outputs) <= 1.1 x that of the truth model "
+             "with its true parameters predicting from the same information (measured steady inputs); **claimed** = "
+             "any effect accepted; **unexpl** = 'unexplained discrepancy remains'. Seed k draws the same noise in "
+             "every case of its kind, so rows are paired.",
+             "",
+             "Reference for the chi^2/nu criterion: the `*_none` rows fit the true model (declared = truth). With "
+             "21 steady points nu is about 60 and chi^2/nu has a standard deviation of sqrt(2/60) = 0.18, so even "
+             "the true model lies outside [0.8, 1.25] in about 20 % of seeds: a steady FAIL on that column alone is "
+             "the noise of chi^2, not the calibration (compare each row with steady_none, seeds paired).",
              "",
              "| case | planted | lambda | seeds | right | rec | chi2/nu ok | mean chi2/nu | held-out ok | "
              "median held-out ratio | claimed | unexpl | errors | median s | criterion | pass |",
@@ -402,8 +409,7 @@ def table(results: list[dict]) -> str:
         planted = ", ".join(f"{k} = {v:.3g}" for k, v in (good[0]["planted"] if good else {}).items()) or "none"
         lam = ", ".join(f"{v:.3g}" for v in (good[0]["lambda"] if good else {}).values()) or "-"
         right = [all(r["found"]) for r in good] if case.plants else []
-        rec = [all(x for x in r["recovered"] if x is not None) if any(x is not None for x in r["recovered"])
-               else None for r in good] if case.plants else []
+        rec = [_recovered(case, r) for r in good] if case.plants else []
         chi_ok = [r["chi2nu_after"] is not None and 0.8 <= r["chi2nu_after"] <= 1.25 for r in good]
         ho_ok = [r["heldout_ratio"] is not None and r["heldout_ratio"] <= 1.1 for r in good]
         claimed = [bool(r["accepted"]) for r in good]
@@ -432,6 +438,14 @@ def table(results: list[dict]) -> str:
     lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
     return "\n".join(lines)
+
+
+def _recovered(case: Case, r: dict):
+    """All planted parameters within 3 SE, judged only where the planted place itself was accepted (an
+    ambiguous alternative has a parameter of other meaning); None when none was."""
+    accepted = {x["accepted"] for x in r["rounds"] if x["accepted"]}
+    judged = [rec for plant, rec in zip(case.plants, r["recovered"]) if plant.key in accepted and rec is not None]
+    return all(judged) if judged else None
 
 
 def write_table() -> None:

@@ -306,12 +306,6 @@ class Model:
                 J[rows, j] = (rp[rows] - r0[rows]) / step
         return J
 
-    def with_globals(self, globals_: list[Free], fixed: dict | None = None, circuit=None) -> "Model":
-        """The same experiment with other global parameters (and fixed values, or another circuit)."""
-        merged = {k: v for k, v in self.fixed.items() if k not in self.exp.overrides}
-        merged.update(fixed or {})
-        return Model(circuit or self.circuit, self.exp, self.data, globals_, merged)
-
     def extend(self, x: np.ndarray, other: "Model", values: dict | None = None) -> np.ndarray:
         """x of this model carried over to ``other`` (same data): globals by name, latents as they are;
         globals new in ``other`` take ``values`` or their initial value."""

@@ -278,8 +278,11 @@ def plot_residuals(cal, path: Path) -> None:
             if row == len(outputs) - 1:
                 ax.set_xlabel(xlabel)
             ax.grid(True, alpha=0.3)
+    import textwrap
+
     found = "; ".join(f"{t} {w}" for _, t, w, *_ in cal.accepted) or "no effect accepted"
-    fig.suptitle(f"{Path(cal.exp.file).name}: normalised residuals ({found})", fontsize="medium")
+    fig.suptitle(textwrap.fill(f"{Path(cal.exp.file).name}: normalised residuals. Found: {found}", 120),
+                 fontsize="medium")
     fig.tight_layout()
     atomic_write_figure(fig, path)
     plt.close(fig)

@@ -288,7 +288,8 @@ def _carry(res: FitResult, model: Model, smodel: Model) -> FitResult:
 def verdict(cal: Calibration) -> tuple[list[str], bool]:
     lines = []
     for key, title, where, param, value, se, unit in cal.accepted:
-        lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g} {unit}")
+        shown = f" {unit}" if unit not in ("1", "", "SI") else ""
+        lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g}{shown}")
     for rnd in cal.rounds:
         if rnd.decision.ambiguous:
             best = rnd.decision.accepted or next((r for r in rnd.decision.refits if r.passes_fit_tests), None)

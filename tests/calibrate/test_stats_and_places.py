@@ -14,7 +14,7 @@ from blocks.calibrate.data import load_data
 from blocks.calibrate.experiment import load_experiment
 from blocks.calibrate.model import Model
 from blocks.calibrate.patch import NetlistDoc
-from blocks.calibrate.run import Stage, context, latent_globals
+from blocks.calibrate.run import Stage, context
 from blocks.calibrate.stats import ljung_box, max_cross_correlation
 from blocks.circuit import Circuit
 

@@ -13,7 +13,6 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
-import numpy as np
 
 from blocks.block import PortKind
 
@@ -72,10 +71,6 @@ class Context:
 
     def has_state(self, net: str) -> bool:
         return net in self.structure.net_state
-
-    def block_type(self, component: str) -> str | None:
-        comp = self.flat.components.get(component)
-        return comp.cls.type_name if comp is not None else None
 
     def first_input_of_unit(self, dims: str) -> str:
         from blocks.units import parse_unit
