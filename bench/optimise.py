@@ -8,9 +8,10 @@ with its stops switched off so that exactly N evaluations run. Printed, all meas
 1. Per evaluation: Circuit.simulate (and the solver's part of it), the cost terms, the log's
    append (write + flush; the fsync runs in a background thread, its time is shown too).
 2. The same job -- the same N designs, since ``candidates`` is fixed at the number of cores, so the
-   batching does not depend on the workers -- with 1 worker (in this process) and with every core (a
-   local process pool): the job's wall time (executor start and the evaluations; the report is not
-   included), evaluations per second, the speed-up.
+   batching does not depend on the workers -- with 1 worker (in this process) and with every core (this
+   process and one worker process per further core, each pinned to its core; blocks/optimise/executors.py):
+   the job's wall time (executor start and the evaluations; the report is not included), evaluations per
+   second, the speed-up.
 3. What the parallelism buys the Complex method: with ``candidates = 1`` (one evaluation at a time, the
    method as stated) and with ``candidates = cores`` (the reflection and the next retractions at once,
    Complex-RFP task prediction; same path of the complex) the iterations reached within the same N

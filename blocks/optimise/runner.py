@@ -16,6 +16,7 @@ Outputs: ``<output>/`` for ``optimise`` and ``<output>/sweep/`` for ``sweep``: t
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import sys
 import time
@@ -185,8 +186,7 @@ def run_optimise(job: Job, resume: bool = False, workers: int | None = None, sch
     budget = getattr(settings, "max_evaluations", None)
     progress = Progress(budget, not quiet, stream)
     runner = Runner(job, log, executor, summary, progress, job.values)
-    started = time.perf_counter()
-    try:
+    with _running(executor, log, progress, summary):
         if job.method == "complex":
             result = complex_minimise(runner, job.lower, job.upper, settings, job.seed)
         elif job.method == "nelder_mead":
@@ -195,17 +195,7 @@ def run_optimise(job: Job, resume: bool = False, workers: int | None = None, sch
             result = nelder_mead(runner, job.lower, job.upper, settings, job.seed)
         else:
             result = differential_evolution(runner, job.lower, job.upper, settings, job.seed)
-    except KeyboardInterrupt:
-        summary.seconds = time.perf_counter() - started
-        summary.reason = "interrupted"
-        _close(executor, log, progress, summary)
-        raise Interrupted(summary) from None
-    except BaseException:
-        _close(executor, log, progress, summary)
-        raise
-    summary.seconds = time.perf_counter() - started
-    summary.reason, summary.iterations = result.reason, result.iterations
-    _close(executor, log, progress, summary)
+        summary.reason, summary.iterations = result.reason, result.iterations
     if report:
         from blocks.optimise.report import write_optimise_report
 
@@ -228,20 +218,9 @@ def run_sweep(job: Job, resume: bool = False, workers: int | None = None, schedu
     names = job.sweep_names
     runner = Runner(job, log, executor, summary, progress, lambda x: dict(zip(names, (float(v) for v in x))))
     points = [np.array([p[n] for n in names]) for p in job.sweep_points]
-    started = time.perf_counter()
-    try:
+    with _running(executor, log, progress, summary):
         runner(points, [{"step": "sweep", "iteration": 0, "n_rep": 0}] * len(points))
-    except KeyboardInterrupt:
-        summary.seconds = time.perf_counter() - started
-        summary.reason = "interrupted"
-        _close(executor, log, progress, summary)
-        raise Interrupted(summary) from None
-    except BaseException:
-        _close(executor, log, progress, summary)
-        raise
-    summary.seconds = time.perf_counter() - started
-    summary.reason = "done"
-    _close(executor, log, progress, summary)
+        summary.reason = "done"
     if report:
         from blocks.optimise.report import write_sweep_report
 
@@ -249,9 +228,23 @@ def run_sweep(job: Job, resume: bool = False, workers: int | None = None, schedu
     return summary
 
 
-def _close(executor, log, progress, summary) -> None:
+@contextlib.contextmanager
+def _running(executor, log, progress, summary: Summary):
+    """Times the job's evaluations into ``summary.seconds`` and closes the executor, the log and the
+    progress line however the job ends; Ctrl-C becomes :class:`Interrupted` (the summary so far)."""
+    started = time.perf_counter()
+    interrupted = False
     try:
-        executor.close()
+        yield
+    except KeyboardInterrupt:
+        interrupted = True
+        summary.reason = "interrupted"
     finally:
-        log.close()
-        progress.close(summary)
+        summary.seconds = time.perf_counter() - started
+        try:
+            executor.close()
+        finally:
+            log.close()
+            progress.close(summary)
+    if interrupted:
+        raise Interrupted(summary) from None
