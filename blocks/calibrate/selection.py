@@ -176,8 +176,13 @@ def separate(a: Refit, b: Refit) -> list[str]:
     key_a, key_b = a.score.place.key, b.score.place.key
     if which is not None and best > 1e-3:
         o, diff = which
-        out.append(f"{key_a} vs {key_b}: measuring '{o.name}' would separate them (the two fits predict it up "
-                   f"to {diff / parse_unit(o.display_unit).factor:.3g} {o.display_unit} apart)")
+        apart = f"the two fits predict it up to {diff / parse_unit(o.display_unit).factor:.3g} {o.display_unit} apart"
+        imposed = next((c.name for c in a.model.channels if c.role == "input" and c.name == o.name), None)
+        if imposed is not None:  # the data have it, but as an imposed input: say so rather than "measure it"
+            out.append(f"{key_a} vs {key_b}: comparing the logged signal '{o.name}' with the data's column "
+                       f"'{imposed}' (imposed as an input in this experiment) would separate them ({apart})")
+        else:
+            out.append(f"{key_a} vs {key_b}: measuring '{o.name}' would separate them ({apart})")
     model = a.model
     if model.data.kind == "steady" and model.layout.inputs:
         worst = int(np.argmax(np.abs(model.data.measured[model.layout.inputs[0]])))

@@ -118,3 +118,36 @@ def test_time_series_coulomb_friction_is_found(tmp_path):
     for name, true in (("u1", 0.1), ("u2", 0.2), ("u3", -0.15)):
         j = cal.final.model.layout.index(name)
         assert abs(cal.final.fit.x[j] - true) < 3 * cal.final.fit.se[j] + 1e-4
+
+
+def test_alternatives_the_data_cannot_tell_apart_are_reported_as_ambiguous(tmp_path):
+    """A laminar loss planted in the return line just before the return orifice (ret.a): the same loss just
+    after it (ret.b, before the tank) raises the measured p2 exactly alike, so the verdict must say
+    "ambiguous between" the two and say what would separate them, not pick one silently."""
+    doc = yaml.safe_load(RIG.read_text())
+    doc["parameters"]["R_planted"] = "3e8 Pa*s/m^3"
+    doc["components"]["planted"] = {"type": "laminar_orifice", "params": {"G": "1/R_planted"}}
+    doc["nets"]["R"] = {"ports": ["relief.b", "planted.a"], "volume": "0.5 l"}
+    doc["nets"]["R_ret"] = {"ports": ["planted.b", "ret.a"], "volume": "0.1 l"}
+    truth = tmp_path / "truth.yaml"
+    truth.write_text(yaml.safe_dump(doc, sort_keys=False))
+    circuit = Circuit.from_file(truth)
+    rng = np.random.default_rng(11)
+    lines = ["setting,Q [l/min],p1 [bar],p2 [bar],p3 [bar]"]
+    for label, p_set in SETTINGS.items():
+        for q in FLOWS:
+            r = circuit.simulate({"Q_in": q / 60000, "p_set": p_set})
+            p = [r.in_unit(k, "bar")[-1] + 0.2 * rng.normal() for k in ("p1", "p2", "p3")]
+            lines.append(f"{label},{q + 0.5 * rng.normal():.5f},{p[0]:.5f},{p[1]:.5f},{p[2]:.5f}")
+    (tmp_path / "data.csv").write_text("\n".join(lines) + "\n")
+    spec = yaml.safe_load((ROOT / "netlists" / "experiments" / "relief_rig_steady.yaml").read_text())
+    spec.update({"netlist": str(RIG), "data": "data.csv",
+                 "trace": {"only": ["line_loss_laminar"], "rounds": 1, "top": 4}})
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out", with_heldout=False)
+    decision = cal.rounds[0].decision
+    pair = {"line_loss_laminar@ret.a", "line_loss_laminar@ret.b"}
+    assert decision.accepted is not None and decision.accepted.score.place.key in pair
+    assert pair - {decision.accepted.score.place.key} <= set(decision.ambiguous)
+    said = "\n".join(cal.verdict)
+    assert "ambiguous between line_loss_laminar@ret." in said and "to separate them:" in said
