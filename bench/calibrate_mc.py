@@ -392,10 +392,18 @@ def table(results: list[dict]) -> str:
              "any effect accepted; **unexpl** = 'unexplained discrepancy remains'. Seed k draws the same noise in "
              "every case of its kind, so rows are paired.",
              "",
-             "Reference for the chi^2/nu criterion: the `*_none` rows fit the true model (declared = truth). With "
-             "21 steady points nu is about 60 and chi^2/nu has a standard deviation of sqrt(2/60) = 0.18, so even "
-             "the true model lies outside [0.8, 1.25] in about 20 % of seeds: a steady FAIL on that column alone is "
-             "the noise of chi^2, not the calibration (compare each row with steady_none, seeds paired).",
+             "The criteria are the issue's, applied per seed and unchanged. Two of them cannot be met per seed by "
+             "the steady experiment, whatever the calibration does; the reference rows show it:",
+             "",
+             "- chi^2/nu in [0.8, 1.25]: the `*_none` rows fit the true model (declared = truth). With 21 steady "
+             "points nu is about 60 and chi^2/nu has a standard deviation of sqrt(2/60) = 0.18: the true model "
+             "itself is in the band in " + _band_rate(60) + " of seeds in theory (" + _reference(results, "steady_none",
+             "chi") + " here); for the time series (nu about 5000) in " + _band_rate(5000) + ".",
+             "- held-out RMSE <= 1.1 x the truth model's with its TRUE parameters: a calibrated model carries the "
+             "error of its estimated parameters, which a leave-one-setting-out prediction from 14 points "
+             "extrapolates; the truth model with its parameters refitted the same way (`steady_none`) is within "
+             "1.1 x in " + _reference(results, "steady_none", "heldout") + " of seeds. One parameter more (the "
+             "planted one, itself correlated with the spring stiffness) widens that further.",
              "",
              "| case | planted | lambda | seeds | right | rec | chi2/nu ok | mean chi2/nu | held-out ok | "
              "median held-out ratio | claimed | unexpl | errors | median s | criterion | pass |",
@@ -438,6 +446,22 @@ def table(results: list[dict]) -> str:
     lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
     return "\n".join(lines)
+
+
+def _band_rate(nu: int) -> str:
+    """How often chi^2/nu of a right model with nu degrees of freedom falls in [0.8, 1.25]."""
+    from scipy import stats
+
+    return f"{100 * (stats.chi2.cdf(1.25 * nu, nu) - stats.chi2.cdf(0.8 * nu, nu)):.0f} %"
+
+
+def _reference(results: list[dict], case: str, what: str) -> str:
+    good = [r for r in results if r["case"] == case and "error" not in r]
+    if what == "chi":
+        ok = [r["chi2nu_after"] is not None and 0.8 <= r["chi2nu_after"] <= 1.25 for r in good]
+    else:
+        ok = [r["heldout_ratio"] is not None and r["heldout_ratio"] <= 1.1 for r in good]
+    return f"{100 * np.mean(ok):.0f} % ({sum(ok)}/{len(ok)})" if ok else "-"
 
 
 def _recovered(case: Case, r: dict):

@@ -95,8 +95,8 @@ def _worker_start(spec: EvalSpec, parent: int, warm: bool) -> None:
 
 
 def _orphan_watch(parent: int) -> None:
-    """End this worker when the job's process is gone (killed): a forked worker holds the task queue's
-    pipe open itself, so it would otherwise wait for work for ever."""
+    """End this worker when the job's process is gone (killed): a forked worker inherited copies of the
+    job's ends of the pipes, so its own pipe never reports end-of-file and it would wait for work for ever."""
     import time
 
     while os.getppid() == parent:
@@ -157,20 +157,24 @@ class LocalExecutor:
         fork_ok = "fork" in multiprocessing.get_all_start_methods() and threading.active_count() == 1
         warm_up(spec)  # this process evaluates too; forked workers inherit the loaded circuit
         context = multiprocessing.get_context("fork" if fork_ok else "spawn")
-        cpus = self._pin_cpus()
         self.pool: list[_Worker] = []
-        # started now, before the job starts threads of its own (the log's fsync thread), so that they are
-        # forked from a process with one thread; and so that their start-up is not in an evaluation
-        for _ in range(self.workers - 1):
-            ours, theirs = context.Pipe()
-            cpu = cpus[len(self.pool) + 1] if cpus else None
-            process = context.Process(target=_worker_loop, args=(theirs, spec, os.getpid(), not fork_ok, cpu),
-                                      daemon=True)
-            process.start()
-            theirs.close()
-            self.pool.append(_Worker(process, ours))
-        for worker in self.pool:
-            worker.connection.recv()  # "ready"
+        cpus = self._pin_cpus()
+        try:
+            # started now, before the job starts threads of its own (the log's fsync thread), so that they
+            # are forked from a process with one thread; and so that their start-up is not in an evaluation
+            for _ in range(self.workers - 1):
+                ours, theirs = context.Pipe()
+                cpu = cpus[len(self.pool) + 1] if cpus else None
+                process = context.Process(target=_worker_loop, args=(theirs, spec, os.getpid(), not fork_ok, cpu),
+                                          daemon=True)
+                process.start()
+                theirs.close()
+                self.pool.append(_Worker(process, ours))
+            for worker in self.pool:
+                worker.connection.recv()  # "ready"
+        except BaseException:
+            self.close()  # the workers started so far, and this process's affinity
+            raise
 
     def _pin_cpus(self) -> list[int] | None:
         """When the job takes every core it may run on, one process per core, pinned: this process to the
