@@ -1,7 +1,10 @@
 """Measured data mapped onto an experiment's channels: steady operating points or one time series, in SI.
 
 Steady points (no ``t`` column): one row per operating point, the group label of each row (the grouping
-column, or "all"), the measured inputs (imposed through a parameter per point) and outputs. A time series
+column, or "all"), the measured inputs (imposed through a parameter per point) and outputs. Steady points
+may come from several files (``data: [a.csv, b.csv]``, each an experiment of its own): their rows are
+joined in order and each row remembers its file (``sources``; held out as a whole by
+``leave_one_experiment_out``); every file needs every channel's column, in any unit of its dimension. A time series
 (a ``t`` column): strictly increasing times, every channel sampled at them; held-out folds are contiguous
 blocks of samples.
 
@@ -32,8 +35,9 @@ class Dataset:
     labels: list[str]
     measured: dict[str, np.ndarray]
     sigma: dict[str, float]
-    table: Table
+    table: Table  # the first file's
     noise_notes: dict[str, str]
+    sources: list[str] | None = None  # steady points: the data file of each row (None: one file)
 
     @property
     def groups(self) -> dict[str, np.ndarray]:
@@ -44,17 +48,42 @@ class Dataset:
 
 
 def load_data(exp: Experiment) -> Dataset:
+    files = exp.data_files or [exp.data]
+    parts = [_load_file(exp, f, first=k == 0, several=len(files) > 1) for k, f in enumerate(files)]
+    if len(parts) == 1:
+        return parts[0]
+    measured = {name: np.concatenate([p.measured[name] for p in parts]) for name in parts[0].measured}
+    labels = [label for p in parts for label in p.labels]
+    sources = [f.name for p, f in zip(parts, files) for _ in range(p.n)]
+    if len(set(sources)) < len(files):  # two files of the same name in different folders
+        sources = [str(f) for p, f in zip(parts, files) for _ in range(p.n)]
+    sigma, notes = {}, {}
+    keys = [f"{source}:{label}" for source, label in zip(sources, labels)]  # repeats only within a file
+    for ch in exp.channels:
+        if ch.noise_method == "repeats":  # pooled over every file's repeated points
+            sigma[ch.name], notes[ch.name] = _from_repeats(exp, measured, keys, ch.name)
+        else:
+            sigma[ch.name], notes[ch.name] = parts[0].sigma[ch.name], parts[0].noise_notes[ch.name]
+    return Dataset("steady", len(labels), None, labels, measured, sigma, parts[0].table, notes, sources)
+
+
+def _load_file(exp: Experiment, file, first: bool = True, several: bool = False) -> Dataset:
+    """One data file; ``first``: its units are the channels' display units; ``several``: one of several
+    files (steady points only; repeated-point noise is estimated over all of them in :func:`load_data`)."""
     group = exp.spec.group
-    table = read_table(exp.data, group=group) if group else read_table(exp.data)
+    table = read_table(file, group=group) if group else read_table(file)
     if group is None and table.group is not None:
         raise table.error(f"has no unit; name it as the experiment's 'group:' or give it a unit", table.group)
     kind = "time" if "t" in table.columns else "steady"
+    if several and kind == "time":
+        raise exp.error(("data",), f"data: {file.name} is a time series; several data files must all be steady "
+                                   f"points (one experiment file per time series)")
     if kind == "time" and group is not None:
         raise table.error("a time series with a grouping column is not supported: one experiment file per "
                           "series", group)
     if kind == "steady" and any(c.role == "input" and c.signal is not None for c in exp.channels):
         ch = next(c for c in exp.channels if c.role == "input" and c.signal is not None)
-        raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: steady data (no t column in {exp.spec.data}) "
+        raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: steady data (no t column in {file.name}) "
                                              f"impose inputs through 'parameter', not 'signal'")
     if kind == "time" and any(c.role == "input" and c.parameter is not None for c in exp.channels):
         ch = next(c for c in exp.channels if c.role == "input" and c.parameter is not None)
@@ -75,7 +104,8 @@ def load_data(exp: Experiment) -> Dataset:
 
             if not parse_unit(table.units[ch.name]).same_dimension(parse_unit(ch.si_unit)):
                 raise table.error(f"unit '{table.units[ch.name]}' does not fit the signal's {ch.si_unit}", ch.name)
-        ch.unit = table.units[ch.name]
+        if first:
+            ch.unit = table.units[ch.name]
         if ch.si_unit in ("", "SI"):  # a netlist parameter without declared unit: the data column's dimension
             from blocks.units import parse_unit
 
@@ -96,9 +126,11 @@ def load_data(exp: Experiment) -> Dataset:
         missing = sorted(set(labels) - set(exp.groups), key=str)
         if missing and group is not None:
             raise exp.error(("groups",), f"groups: no parameter values for group(s) {', '.join(missing)} of "
-                                         f"column '{group}' in {exp.spec.data}")
+                                         f"column '{group}' in {file.name}")
     sigma, notes = {}, {}
     for ch in exp.channels:
+        if several and ch.noise_method == "repeats":
+            continue
         if ch.noise_method == "given":
             sigma[ch.name] = float(ch.noise)
             notes[ch.name] = "given"

@@ -4,7 +4,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
 
     description: steady points of the relief rig, three crack settings
     netlist: circuits/relief_rig.yaml
-    data: data/relief_rig.csv            # one CSV: steady points (no t column) or a time series (t column)
+    data: data/relief_rig.csv            # one CSV: steady points (no t column) or a time series (t column);
+                                         # steady points may come from several files: [a.csv, b.csv]
     group: setting                       # the grouping column (optional)
     inputs:                              # measured columns imposed on the circuit
       Q: {parameter: Q_in, noise: "0.5 l/min"}          # steady: the parameter each point sets
@@ -19,7 +20,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     free:                                # the declared free parameters, values in any unit of their dimension
       k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}
     drift: [k_s]                         # steady data: refitted per group, should stay constant
-    heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}
+    heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, or leave_one_experiment_out
+                                                # (each data file in turn)
     steady: {t_end: "0.15 s", settle_tol: 0.05} # settling runs (steady data)
     trace: {rounds: 3, top: 3, exclude: [extra_volume]}
     solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
@@ -34,7 +36,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Literal, Union
+from typing import Annotated, Literal, Union
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
@@ -66,7 +68,7 @@ class FreeSpec(_Strict):
 
 
 class HeldOutSpec(_Strict):
-    scheme: Literal["leave_one_group_out", "kfold"] = "leave_one_group_out"
+    scheme: Literal["leave_one_group_out", "leave_one_experiment_out", "kfold"] = "leave_one_group_out"
     k: int = Field(5, ge=2, le=50)
     seed: int = 0
 
@@ -96,7 +98,7 @@ class GroupTableSpec(_Strict):
 class ExperimentSpec(_Strict):
     description: str = ""
     netlist: str
-    data: str
+    data: Union[str, Annotated[list[str], Field(min_length=1)]]
     group: str | None = None
     inputs: dict[str, ChannelSpec] = Field(default_factory=dict)
     outputs: dict[str, ChannelSpec]
@@ -147,12 +149,13 @@ class Experiment:
     spec: ExperimentSpec
     located: Located
     netlist: Path
-    data: Path
+    data: Path  # the first data file (the only one of a time series)
     channels: list[Channel]
     overrides: dict[str, float]
     groups: dict[str, dict[str, float]]
     free: list[Free]
     corrections: dict[str, dict[str, float]] = field(default_factory=dict)
+    data_files: list[Path] = field(default_factory=list)
 
     @property
     def inputs(self) -> list[Channel]:
@@ -217,9 +220,15 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     netlist = (base / spec.netlist).resolve()
     if not netlist.is_file():
         raise located.error(("netlist",), f"netlist: file not found: {spec.netlist}")
-    data = (base / spec.data).resolve()
-    if not data.is_file():
-        raise located.error(("data",), f"data: file not found: {spec.data}")
+    names = [spec.data] if isinstance(spec.data, str) else list(spec.data)
+    data_files = []
+    for k, name in enumerate(names):
+        path = (base / name).resolve()
+        if not path.is_file():
+            where = ("data",) if isinstance(spec.data, str) else ("data", k)
+            raise located.error(where, f"data: file not found: {name}")
+        data_files.append(path)
+    data = data_files[0]
     if circuit is None:
         circuit = Circuit.from_file(netlist, compile=False)
     entries = circuit.flat.parameters.entries
@@ -320,7 +329,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 "gain": float(quantity(corr.get("gain", 0.0), "1"))}
         except UnitError as exc:
             raise located.error(("corrections", ch_name), f"corrections.{ch_name}: {exc}") from None
-    return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections)
+    return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files)
 
 
 def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> None:

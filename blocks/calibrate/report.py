@@ -99,7 +99,8 @@ def refit_rows(rnd) -> list[dict]:
 def build(cal) -> dict:
     exp, data = cal.exp, cal.data
     return {
-        "experiment": str(exp.file), "netlist": str(exp.netlist), "data": str(exp.data),
+        "experiment": str(exp.file), "netlist": str(exp.netlist),
+        "data": [str(f) for f in exp.data_files] if len(exp.data_files) > 1 else str(exp.data),
         "kind": data.kind, "points": data.n, "groups": list(data.groups),
         "verdict": cal.verdict, "unexplained_discrepancy": cal.unexplained,
         "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u}
@@ -132,7 +133,7 @@ def markdown(cal, info: dict) -> str:
     L = [f"# Calibration: {Path(exp.file).name}", ""]
     if exp.spec.description:
         L += [exp.spec.description.strip(), ""]
-    L += [f"- netlist: `{exp.netlist}`", f"- data: `{exp.data}` ({data.n} "
+    L += [f"- netlist: `{exp.netlist}`", f"- data: {', '.join(f'`{f}`' for f in (exp.data_files or [exp.data]))} ({data.n} "
           + ("steady points" if data.kind == "steady" else "samples of a time series")
           + (f" in groups {', '.join(data.groups)}" if data.kind == "steady" and len(data.groups) > 1 else "") + ")",
           f"- imposed inputs: {', '.join(c.name for c in exp.inputs) or 'none'} (errors-in-variables: the true "

@@ -330,7 +330,7 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
         return os.path.relpath(Path(path).resolve(), target.parent.resolve())
 
     data["netlist"] = rel(netlist)
-    data["data"] = rel(base / exp.spec.data)
+    data["data"] = [rel(f) for f in exp.data_files] if isinstance(exp.spec.data, list) else rel(exp.data)
     if exp.spec.group_table is not None:
         gt = dict(data["group_table"])
         gt["file"] = rel(base / exp.spec.group_table.file)
