@@ -54,7 +54,8 @@ OUT = ROOT / "out" / "calibrate_mc"
 RESULTS = OUT / "results.jsonl"
 TABLE = ROOT / "docs" / "calibration-montecarlo.md"
 
-STEADY_FLOWS = (12.5, 25.0, 37.5, 50.0, 62.5, 75.0, 87.5)  # l/min, per setting
+STEADY_FLOWS_DEFAULT = (12.5, 25.0, 37.5, 50.0, 62.5, 75.0, 87.5)  # l/min, per setting
+STEADY_FLOWS = STEADY_FLOWS_DEFAULT
 STEADY_SETTINGS = {"1": 30e5, "2": 45e5, "3": 60e5}  # crack setting p_set [Pa] per group
 TRIAL = {  # a first guess of each planted parameter (SI); scaled to the target lambda
     "flow_force": 0.1, "line_loss_turbulent": 2e11, "line_loss_laminar": 3e8, "leakage": 1e-11,
@@ -351,8 +352,21 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
             "simulations": cal.simulations}
 
 
+def configure(flows: int | None) -> None:
+    """The steady experiment's flows per setting: the 7 of the main table, or ``flows`` evenly spaced from
+    12.5 to 87.5 l/min (a denser experiment; its results go to a file of their own)."""
+    global STEADY_FLOWS, RESULTS
+    new = STEADY_FLOWS_DEFAULT if not flows else tuple(float(q) for q in np.linspace(12.5, 87.5, flows))
+    if new != STEADY_FLOWS:
+        _SETUPS.pop("steady", None)
+        _SIZES.clear()
+    STEADY_FLOWS = new
+    RESULTS = OUT / ("results.jsonl" if not flows else f"results_flows{flows}.jsonl")
+
+
 def _worker(args) -> dict:
-    case_name, seed, sizes = args
+    case_name, seed, sizes, flows = args
+    configure(flows)
     case = next(c for c in CASES if c.name == case_name)
     try:
         return run_seed(case, seed, sizes)
@@ -368,14 +382,6 @@ def load_results() -> list[dict]:
 
 
 def table(results: list[dict]) -> str:
-    by_case: dict[str, list[dict]] = {}
-    for r in results:
-        by_case.setdefault(r["case"], []).append(r)
-
-    def pct(values):
-        values = [v for v in values if v is not None]
-        return f"{100 * np.mean(values):.0f} % ({sum(values)}/{len(values)})" if values else "-"
-
     lines = ["# Calibration Monte Carlo (bench/calibrate_mc.py)", "",
              "Planted effects, found or not: truth = the declared netlist + the planted effect(s) + Gaussian noise on "
              "every measured channel, inputs included; each effect sized by its non-centrality lambda (chi^2 of the "
@@ -404,8 +410,33 @@ def table(results: list[dict]) -> str:
              "extrapolates; the truth model with its parameters refitted the same way (`steady_none`) is within "
              "1.1 x in " + _reference(results, "steady_none", "heldout") + " of seeds. One parameter more (the "
              "planted one, itself correlated with the spring stiffness) widens that further.",
-             "",
-             "| case | planted | lambda | seeds | right | rec | chi2/nu ok | mean chi2/nu | held-out ok | "
+             ""] + case_rows(results)
+    lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
+                  "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
+    for dense in sorted(OUT.glob("results_flows*.jsonl")):
+        flows = int(dense.stem.removeprefix("results_flows"))
+        rows = [json.loads(line) for line in dense.read_text().splitlines() if line.strip()]
+        lines += [f"## The steady cases with {flows} flows per setting ({3 * flows} points)", "",
+                  f"The same relief rig, settings, noise and criteria, with {flows} flows per setting evenly from "
+                  f"12.5 to 87.5 l/min instead of 7; each effect sized again to lambda of about 100 (so it is "
+                  f"smaller). chi^2/nu of a right model is then in [0.8, 1.25] in "
+                  f"{_band_rate(3 * flows * 4 - 3 * flows - 3)} of seeds in theory.", ""] + case_rows(rows)
+        lines += ["", f"Records: out/calibrate_mc/{dense.name}. Rerun: `python bench/calibrate_mc.py --flows {flows} "
+                      f"--cases steady_none steady_flow_force --seeds 20`.", ""]
+    return "\n".join(lines)
+
+
+def case_rows(results: list[dict]) -> list[str]:
+    """The table of every case that has results: rates over its seeds and the issue's criterion."""
+    by_case: dict[str, list[dict]] = {}
+    for r in results:
+        by_case.setdefault(r["case"], []).append(r)
+
+    def pct(values):
+        values = [v for v in values if v is not None]
+        return f"{100 * np.mean(values):.0f} % ({sum(values)}/{len(values)})" if values else "-"
+
+    lines = ["| case | planted | lambda | seeds | right | rec | chi2/nu ok | mean chi2/nu | held-out ok | "
              "median held-out ratio | claimed | unexpl | errors | median s | criterion | pass |",
              "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for case in CASES:
@@ -443,9 +474,7 @@ def table(results: list[dict]) -> str:
                      f"{pct(rec) if case.plants else '-'} | {pct(chi_ok)} | {chi_mean:.3g} | {pct(ho_ok)} | "
                      f"{ho_med:.3g} | {pct(claimed)} | {pct(unexpl)} | {errors} | {med:.0f} | {crit} | "
                      f"{'PASS' if ok else 'FAIL'} |")
-    lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
-                  "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
-    return "\n".join(lines)
+    return lines
 
 
 def _band_rate(nu: int) -> str:
@@ -475,7 +504,9 @@ def _recovered(case: Case, r: dict):
 def write_table() -> None:
     from blocks.result import atomic_write_text
 
-    atomic_write_text(TABLE, table(load_results()))
+    main = OUT / "results.jsonl"  # the main table's, whatever --flows this run had
+    results = [json.loads(line) for line in main.read_text().splitlines() if line.strip()] if main.exists() else []
+    atomic_write_text(TABLE, table(results))
     print(f"wrote {TABLE}")
 
 
@@ -507,6 +538,8 @@ def main(argv=None) -> int:
     parser.add_argument("--first-seed", type=int, default=1)
     parser.add_argument("--cases", nargs="*", help="case names (default: all)")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--flows", type=int, help="steady cases only: this many flows per setting instead of 7 "
+                                                  "(results in their own file and table section)")
     parser.add_argument("--table", action="store_true", help="only write the table from the results so far")
     parser.add_argument("--examples", action="store_true", help="rewrite the example data files")
     args = parser.parse_args(argv)
@@ -517,8 +550,9 @@ def main(argv=None) -> int:
         write_table()
         return 0
     OUT.mkdir(parents=True, exist_ok=True)
+    configure(args.flows)
     done = {(r["case"], r["seed"]) for r in load_results()}
-    cases = [c for c in CASES if not args.cases or c.name in args.cases]
+    cases = [c for c in CASES if (not args.cases or c.name in args.cases) and (not args.flows or c.kind == "steady")]
     jobs = []
     for case in cases:
         seeds = [s for s in range(args.first_seed, args.first_seed + args.seeds) if (case.name, s) not in done]
@@ -528,7 +562,7 @@ def main(argv=None) -> int:
             started = time.perf_counter()
             _SIZES[case.name] = setup(case.kind).size(case)
             print(f"{case.name}: sized {_SIZES[case.name]} in {time.perf_counter() - started:.0f} s", flush=True)
-        jobs += [(case.name, s, _SIZES[case.name]) for s in seeds]
+        jobs += [(case.name, s, _SIZES[case.name], args.flows) for s in seeds]
     jobs.sort(key=lambda job: job[1])  # seed by seed over the cases: an interrupted run covers every case
     print(f"{len(jobs)} runs", flush=True)
     import multiprocessing
