@@ -34,6 +34,9 @@ def thesis_rmse(channels=("p1", "p3")) -> dict[str, float]:
 
     measured = read_table(SHARED / "mcv_vf250_multistep.csv", group="setting")
     simulated = read_table(SHARED / "thesis_sim_multistep.csv", group="setting")
+    # the two tables list the same points in the same order (setting and flow agree row by row)
+    if measured.labels != simulated.labels or not np.allclose(measured.columns["Q"], simulated.columns["Q"], rtol=0.05):
+        raise ValueError("thesis_sim_multistep.csv does not list the points of mcv_vf250_multistep.csv in order")
     return {c: float(np.sqrt(np.mean((measured.columns[c] - simulated.columns[c]) ** 2))) / 1e5 for c in channels}
 
 

@@ -224,9 +224,11 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     data_files = []
     for k, name in enumerate(names):
         path = (base / name).resolve()
+        where = ("data",) if isinstance(spec.data, str) else ("data", k)
         if not path.is_file():
-            where = ("data",) if isinstance(spec.data, str) else ("data", k)
             raise located.error(where, f"data: file not found: {name}")
+        if path in data_files:
+            raise located.error(where, f"data: {name} is listed twice (its points would count twice)")
         data_files.append(path)
     data = data_files[0]
     if circuit is None:

@@ -15,7 +15,8 @@ once (``Circuit.from_file``, compiled code from the disk cache) and keeps it for
   about 1-2 ms a batch, a third of a 3 ms evaluation.) Workers are forked from this process when it runs
   no other thread (they inherit the loaded circuit: no start-up cost), spawned otherwise (each loads the
   circuit once, about a second). Workers ignore Ctrl-C (the job stops them) and end when the job's process
-  is gone. A worker that dies fails the task it held (the job goes on with the others).
+  is gone. A worker that dies (killed from outside) is dropped and its task is tried again once, by
+  another process; a task that kills two fails with that message. The job goes on either way.
 - ``dask``: a Dask distributed cluster at ``scheduler`` (``tcp://host:8786``) or an existing
   ``distributed.Client``. The job's evaluation spec is sent to every worker once; the netlist path must
   be readable on the workers (a shared file system), and each worker process keeps its circuit.
@@ -45,7 +46,8 @@ def interrupt_after_evaluation():
     """Ctrl-C while this process evaluates ends the job after the evaluation, not inside it: raised inside
     the compiled integrator, KeyboardInterrupt surfaces as a SystemError that would look like a failed
     design. Evaluations take milliseconds to seconds; a second Ctrl-C waits as well."""
-    if threading.current_thread() is not threading.main_thread():
+    if threading.current_thread() is not threading.main_thread() \
+            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler:  # Ctrl-C ignored or handled
         yield
         return
     pending = []
@@ -200,7 +202,8 @@ class LocalExecutor:
         """Wait out the tasks a previous batch left running (the caller stopped reading it)."""
         for worker in [w for w in self.pool if w.task is not None]:
             try:
-                worker.connection.recv()
+                while worker.connection.recv()[0] != worker.task:
+                    pass
                 worker.task = None
             except (EOFError, OSError):
                 self._lost(worker)
@@ -213,27 +216,36 @@ class LocalExecutor:
         tasks = deque((i, k) for i in range(len(designs)) for k in range(len(self.spec.cases)))
         assembler = _Assembler(self.spec, len(designs))
 
+        retried: set[tuple[int, int]] = set()
+
         def dispatch() -> None:
             for worker in list(self.pool):
                 if worker.task is None and tasks:
-                    i, k = tasks[0]
+                    worker.task = tasks.popleft()  # before the send: an interrupt between them leaves no doubt
+                    i, k = worker.task
                     try:
                         worker.connection.send(((i, k), designs[i], k))
                     except (BrokenPipeError, OSError):  # died while idle: the task stays for the others
+                        tasks.appendleft(worker.task)
                         self._lost(worker)
-                        continue
-                    worker.task = tasks.popleft()
 
         def collect(timeout: float | None) -> Iterator[tuple[int, dict]]:
             busy = {w.connection: w for w in self.pool if w.task is not None}
             for connection in wait(list(busy), timeout):
                 worker = busy[connection]
-                i, k = worker.task
+                i, k = task = worker.task
                 try:
-                    _, part = connection.recv()
+                    tag, part = connection.recv()
                 except (EOFError, OSError):
-                    part = _failed_case(self.spec, k, self._lost(worker))
+                    error = self._lost(worker)
+                    if task not in retried:  # killed from outside (OOM killer, kill): not the design's fault
+                        retried.add(task)
+                        tasks.appendleft(task)
+                        continue
+                    tag, part = task, _failed_case(self.spec, k, f"{error}, twice on this task")
                 worker.task = None
+                if tag != task:  # a stale answer (cannot happen after _drain; never misattributed)
+                    raise RuntimeError(f"worker answered task {tag} while holding {task}")
                 record = assembler.add(i, part)
                 if record is not None:
                     yield i, record

@@ -76,6 +76,11 @@ def test_a_missing_second_file_and_a_time_series_among_several_are_located_error
     assert cli.main(["calibrate", str(bad), "-o", str(tmp_path / "out")]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "data: file not found: nowhere.csv" in err and f"{bad}:" in err
+    spec["data"] = ["a.csv", "./a.csv"]
+    bad.write_text(yaml.safe_dump(spec, sort_keys=False))
+    assert cli.main(["calibrate", str(bad), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and "./a.csv is listed twice" in err
     (tmp_path / "steady.csv").write_text("Q [l/min],p1 [bar],p2 [bar],p3 [bar]\n10,2,3,4\n20,2,3,4\n")
     (tmp_path / "series.csv").write_text("t [s],Q [l/min],p1 [bar],p2 [bar],p3 [bar]\n0,1,2,3,4\n0.1,1,2,3,4\n")
     spec["data"] = ["steady.csv", "series.csv"]

@@ -33,26 +33,42 @@ def test_every_task_runs_once_and_matches_the_serial_evaluation(tmp_path):
         assert got[i]["status"] == want["status"] == "ok"
 
 
-def test_a_worker_that_dies_fails_its_task_and_the_job_goes_on(tmp_path):
+def test_a_worker_killed_from_outside_loses_no_task_and_fails_no_design(tmp_path):
     s = spec(tmp_path)
     executor = LocalExecutor(s, workers=2)
     try:
         worker = executor.pool[0].process
         os.kill(worker.pid, signal.SIGKILL)
         worker.join(timeout=10)
+        # the dead worker either had a task handed to it (tried again here) or was found dead before
+        # (its task stayed in the queue): every design is evaluated, none is blamed for the kill
         got = dict(executor.run(DESIGNS))
         assert sorted(got) == [0, 1, 2]
-        failed = [r for r in got.values() if r["status"] == "failed"]
-        # the dead worker either had a task handed to it (that one fails, naming the worker) or was found
-        # dead before (its task stayed in the queue): no task is lost either way
-        assert len(failed) <= 1
-        for r in failed:
-            assert f"worker process {worker.pid} died" in r["error"]
+        assert [r["status"] for r in got.values()] == ["ok"] * 3
         assert executor.pool == []  # this process evaluated the rest itself
         later = dict(executor.run(DESIGNS[:1]))
         assert later[0]["status"] == "ok"
     finally:
         executor.close()
+
+
+def test_ctrl_c_is_deferred_only_where_it_would_interrupt(tmp_path):
+    """A job run with Ctrl-C ignored (a background job) must not start stopping on it."""
+    import signal as sig
+
+    from blocks.optimise.executors import interrupt_after_evaluation
+
+    previous = sig.signal(sig.SIGINT, sig.SIG_IGN)
+    try:
+        with interrupt_after_evaluation():
+            os.kill(os.getpid(), sig.SIGINT)
+    finally:
+        sig.signal(sig.SIGINT, previous)
+    with pytest.raises(KeyboardInterrupt):
+        with interrupt_after_evaluation():
+            os.kill(os.getpid(), sig.SIGINT)
+            done = True  # the block runs to its end first
+    assert done
 
 
 @pytest.mark.skipif(not hasattr(os, "sched_getaffinity") or len(os.sched_getaffinity(0)) < 2,
