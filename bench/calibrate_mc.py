@@ -185,7 +185,7 @@ class Setup:
                 continue
             doc.add_parameter(place.param, float(value))
             self.registered[place.candidate].patch(doc, place)
-        path = OUT / "truth" / f"{self.kind}_{tag}.yaml"
+        path = OUT / "truth" / f"{self.kind}_{tag}{_variant()}.yaml"
         return doc.write(path, header=f"Monte Carlo truth: {tag}")
 
     def truth_data(self, circuit, plants: dict[str, float], flows=None) -> dict:
@@ -302,7 +302,7 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     clean = s.truth_data(Circuit.from_file(truth_file), values)
     rng = np.random.default_rng(seed)
     noisy = {k: v + rng.normal(size=v.shape) * s.sigma[k] for k, v in clean.items()}
-    work = OUT / "runs" / case.name / f"seed{seed}"
+    work = OUT / "runs" / (case.name + _variant()) / f"seed{seed}"
     write_data(s, noisy, work / "data.csv")
     write_experiment(s, work / "data.csv", work / "experiment.yaml")
     started = time.perf_counter()
@@ -362,6 +362,12 @@ def configure(flows: int | None) -> None:
         _SIZES.clear()
     STEADY_FLOWS = new
     RESULTS = OUT / ("results.jsonl" if not flows else f"results_flows{flows}.jsonl")
+
+
+def _variant() -> str:
+    """The suffix of the files of a denser steady experiment (its truth netlists and runs are its own: two
+    runs of the bench at once must not overwrite each other's truth)."""
+    return "" if STEADY_FLOWS == STEADY_FLOWS_DEFAULT else f"_flows{len(STEADY_FLOWS)}"
 
 
 def _worker(args) -> dict:
