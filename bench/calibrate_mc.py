@@ -552,6 +552,8 @@ def main(argv=None) -> int:
     parser.add_argument("--table", action="store_true", help="only write the table from the results so far")
     parser.add_argument("--examples", action="store_true", help="rewrite the example data files")
     args = parser.parse_args(argv)
+    if args.flows is not None and args.flows < 2:
+        parser.error(f"--flows {args.flows}: give at least 2 flows per setting")
     if args.examples:
         examples()
         return 0

@@ -162,8 +162,9 @@ def _from_repeats(exp: Experiment, measured: dict, labels: list[str], name: str)
             ss += float(np.sum((y - y.mean()) ** 2))
             dof += len(rows) - 1
     if dof == 0:
-        raise exp.error(("outputs", name, "noise"), f"noise: no repeated points (same group, same data file and same imposed inputs) "
-                                                     f"to estimate the noise of '{name}' from; give it")
+        raise exp.error(("outputs", name, "noise"), f"noise: no repeated points (same group, same data file and "
+                                                     f"same imposed inputs) to estimate the noise of '{name}' from; "
+                                                     f"give it")
     return float(np.sqrt(ss / dof)), f"estimated from repeated points ({dof} degrees of freedom)"
 
 

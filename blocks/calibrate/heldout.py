@@ -38,7 +38,7 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
     groups = data.groups
     if spec.scheme == "leave_one_group_out" and data.kind == "steady" and len(groups) >= 2:
         return "leave one group out", [(label, idx) for label, idx in groups.items()]
-    files = sorted(set(data.sources or []), key=(data.sources or []).index)
+    files = list(dict.fromkeys(data.sources or []))  # in order of appearance
     if spec.scheme == "leave_one_experiment_out" and data.kind == "steady" and len(files) >= 2:
         sources = np.array(data.sources)
         return "leave one experiment out", [(f, np.nonzero(sources == f)[0]) for f in files]
