@@ -95,7 +95,9 @@ class Model:
 
                 changes["t_end"] = quantity(exp.spec.steady.t_end, "s")
             t_end = changes.get("t_end", settings.t_end)
-            changes["dt_out"] = (t_end - settings.t_start) / 100.0
+            # only the end and the 80 % point are read: ten output intervals keep a settling run one call of
+            # the compiled integrator (blocks/solve/run.py slices runs of 20 or more output times)
+            changes["dt_out"] = (t_end - settings.t_start) / 10.0
         self.settings = settings.with_(**changes)
         if data.kind == "time":
             if data.t[0] < self.settings.t_start - 1e-12 or data.t[-1] > self.settings.t_end + 1e-12:

@@ -143,7 +143,7 @@ class ParameterTable:
                 values[name] = value
                 continue
             if entry.expression is not None or entry.elements is not None:
-                local = {n: values[q] for n, q in entry.scope.items() if n in entry.dependencies()}
+                local = {n: values[entry.scope[n]] for n in entry.dependencies()}  # order() checked the scope
                 local.update({k: v for k, (v, _) in entry.literals.items()})
                 try:
                     if entry.elements is not None:
