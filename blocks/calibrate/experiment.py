@@ -20,8 +20,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     free:                                # the declared free parameters, values in any unit of their dimension
       k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}
     drift: [k_s]                         # steady data: refitted per group, should stay constant
-    heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, or leave_one_experiment_out
-                                                # (each data file in turn)
+    heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, leave_one_experiment_out (each
+                                                # data file in turn) or {scheme: kfold_experiments, k: 3}
     steady: {t_end: "0.15 s", settle_tol: 0.05} # settling runs (steady data)
     trace: {rounds: 3, top: 3, exclude: [extra_volume]}
     solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
@@ -68,7 +68,8 @@ class FreeSpec(_Strict):
 
 
 class HeldOutSpec(_Strict):
-    scheme: Literal["leave_one_group_out", "leave_one_experiment_out", "kfold"] = "leave_one_group_out"
+    scheme: Literal["leave_one_group_out", "leave_one_experiment_out", "kfold_experiments", "kfold"] = \
+        "leave_one_group_out"
     k: int = Field(5, ge=2, le=50)
     seed: int = 0
 

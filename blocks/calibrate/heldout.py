@@ -6,9 +6,13 @@ Schemes (``heldout:`` of the experiment):
   inform its prediction).
 - ``leave_one_experiment_out`` (steady points from several data files): each file in turn, predicted
   from its measured inputs as above.
+- ``kfold_experiments`` (steady points from several data files): the files dealt into k folds at random
+  (``seed``), each fold's files left out together and predicted as above; with k at least the number of
+  files it is leave one experiment out.
 - ``kfold``: steady points dealt into k folds at random (``seed``); a time series cut into k contiguous
   blocks of samples (the measured input stays in the fit for every sample: it is what is imposed).
-Without groups (or with one data file), the leave-one-out schemes fall back to kfold (said in the result).
+Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
+result).
 
 The held-out error is the mean of the squared normalised residuals of the held-out output rows (1 for a
 model that predicts to the noise), and the RMSE per output channel in SI.
@@ -39,16 +43,24 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
     if spec.scheme == "leave_one_group_out" and data.kind == "steady" and len(groups) >= 2:
         return "leave one group out", [(label, idx) for label, idx in groups.items()]
     files = list(dict.fromkeys(data.sources or []))  # in order of appearance
-    if spec.scheme == "leave_one_experiment_out" and data.kind == "steady" and len(files) >= 2:
+    if spec.scheme in ("leave_one_experiment_out", "kfold_experiments") and data.kind == "steady" \
+            and len(files) >= 2:
         sources = np.array(data.sources)
-        return "leave one experiment out", [(f, np.nonzero(sources == f)[0]) for f in files]
+        if spec.scheme == "leave_one_experiment_out" or spec.k >= len(files):
+            return "leave one experiment out", [(f, np.nonzero(sources == f)[0]) for f in files]
+        dealt = np.array_split(np.random.default_rng(spec.seed).permutation(len(files)), spec.k)
+        folds = []
+        for part in dealt:
+            members = [files[i] for i in sorted(part)]
+            folds.append((" + ".join(members), np.nonzero(np.isin(sources, members))[0]))
+        return f"{spec.k}-fold over experiments", folds
     k = min(spec.k, data.n)
     if data.kind == "steady":
         order = np.random.default_rng(spec.seed).permutation(data.n)
         parts = np.array_split(order, k)
         note = "" if spec.scheme == "kfold" else (
             " (no groups: leave_one_group_out fell back to kfold)" if spec.scheme == "leave_one_group_out"
-            else " (one data file: leave_one_experiment_out fell back to kfold)")
+            else f" (one data file: {spec.scheme} fell back to kfold)")
         return f"{k}-fold over points{note}", [(f"fold {i + 1}", np.sort(p)) for i, p in enumerate(parts)]
     parts = np.array_split(np.arange(data.n), k)
     return f"{k} contiguous blocks of the time series", [(f"block {i + 1}", p) for i, p in enumerate(parts)]

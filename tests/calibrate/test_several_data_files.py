@@ -106,3 +106,38 @@ def test_an_effect_found_in_several_files_writes_an_experiment_that_loads(tmp_pa
     assert [Path(f).name for f in written["data"]] == ["a.csv", "b.csv"]
     again = load_experiment(tmp_path / "out" / "experiment_augmented.yaml")
     assert [f.name for f in again.data_files] == ["a.csv", "b.csv"] and load_data(again).n == cal.data.n
+
+
+def test_kfold_over_experiments_leaves_whole_files_out_together(tmp_path):
+    """Four files (one per crack setting, setting 3 in two halves) dealt into two folds: every point held out
+    exactly once, no file split across folds; k >= the number of files is leave one experiment out."""
+    whole_file, _ = split(tmp_path)
+    whole = load_experiment(whole_file)
+    dw = load_data(whole)
+    source = Path(whole.spec.data if isinstance(whole.spec.data, str) else whole.spec.data[0])
+    lines = [ln for ln in source.read_text().splitlines() if ln.strip() and not ln.startswith("#")]
+    header, rows = lines[0], lines[1:]
+    group = [h.split(" [")[0] for h in header.split(",")].index(whole.spec.group)
+    files = {"s1.csv": [r for r in rows if r.split(",")[group] == "1"],
+             "s2.csv": [r for r in rows if r.split(",")[group] == "2"]}
+    third = [r for r in rows if r.split(",")[group] == "3"]
+    files["s3a.csv"], files["s3b.csv"] = third[: len(third) // 2], third[len(third) // 2:]
+    for name, body in files.items():
+        (tmp_path / name).write_text("\n".join([header] + body) + "\n")
+    spec = yaml.safe_load(whole_file.read_text())
+    for k, expect in ((2, "2-fold over experiments"), (4, "leave one experiment out"), (9, "leave one experiment out")):
+        spec.update(data=list(files), heldout={"scheme": "kfold_experiments", "k": k, "seed": 3})
+        path = tmp_path / f"k{k}.yaml"
+        path.write_text(yaml.safe_dump(spec, sort_keys=False))
+        exp = load_experiment(path)
+        data = load_data(exp)
+        assert data.n == dw.n
+        scheme, folds = make_folds(Model(Circuit.from_file(exp.netlist), exp, data, list(exp.free)), exp.spec.heldout)
+        assert scheme == expect and len(folds) == min(k, len(files))
+        held = np.concatenate([idx for _, idx in folds])
+        assert sorted(held.tolist()) == list(range(data.n))  # every point once
+        sources = np.array(data.sources)
+        for name, idx in folds:
+            members = set(name.split(" + "))
+            assert set(sources[idx]) == members  # the fold is its files, whole
+            assert len(idx) == sum(len(files[m]) for m in members)
