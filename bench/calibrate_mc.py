@@ -429,7 +429,7 @@ def table(results: list[dict]) -> str:
                   f"smaller). chi^2/nu of a right model is then in [0.8, 1.25] in "
                   f"{_band_rate(3 * flows * 4 - 3 * flows - 3)} of seeds in theory.", ""] + case_rows(rows)
         lines += ["", f"Records: out/calibrate_mc/{dense.name}. Rerun: `python bench/calibrate_mc.py --flows {flows} "
-                      f"--cases steady_none steady_flow_force --seeds 20`.", ""]
+                      f"--seeds 20 --workers 2` (the steady cases only).", ""]
     return "\n".join(lines)
 
 
