@@ -347,6 +347,8 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
             "chi2nu_after": cal.final.lof.reduced if cal.final else None,
             "heldout_ratio": ho_ratio, "unexplained": cal.unexplained, "seconds": seconds,
             "estimates": {key: [value, se] for key, (value, se) in final.items()},
+            "unsettled": cal.final.fit.unsettled if cal.final else None,
+            "lengthened": len(cal.final.model.run_end) if cal.final else None,
             "simulations": cal.simulations}
 
 

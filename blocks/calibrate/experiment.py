@@ -22,7 +22,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     drift: [k_s]                         # steady data: refitted per group, should stay constant
     heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, leave_one_experiment_out (each
                                                 # data file in turn) or {scheme: kfold_experiments, k: 3}
-    steady: {t_end: "0.15 s", settle_tol: 0.05} # settling runs (steady data)
+    steady: {t_end: "0.15 s", settle_tol: 0.05} # settling runs (steady data); t_max: the longest a run
+                                                # not settled at t_end may be lengthened to (8 x t_end)
     trace: {rounds: 3, top: 3, exclude: [extra_volume]}
     solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
 
@@ -76,6 +77,7 @@ class HeldOutSpec(_Strict):
 
 class SteadySpec(_Strict):
     t_end: Value | None = None
+    t_max: Value | None = None  # the longest a settling run may be lengthened to (default 8 x t_end)
     settle_tol: float = Field(0.05, gt=0)
 
 

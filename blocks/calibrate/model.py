@@ -20,8 +20,12 @@ not in the netlist.
 
 Steady points: each point is a settling run (``simulation.t_end`` of the netlist or ``steady.t_end``) with
 the imposed inputs and group values as parameters; the outputs are read at the end. A point counts as
-settled when every compared signal moved less than ``settle_tol`` * sigma over the last 20 % of the run;
-unsettled points are counted and reported (never silently used as if steady).
+settled when every compared signal moved less than ``settle_tol`` * sigma over the last 20 % of the run.
+A point not settled (a slowly decaying oscillation, say) is run again with its run doubled, up to
+``steady.t_max`` (default 8 x t_end); the length that settled it is kept for that point from then on, so
+that every later evaluation of it (finite differences included) reads the same run length and the
+residual stays a smooth function of x rather than of an oscillation's phase at t_end. Points still
+unsettled at t_max are counted and reported (never silently used as if steady).
 Time series: one run; logged signals are interpolated linearly onto the data's times, which must lie inside
 the simulated span.
 """
@@ -89,15 +93,20 @@ class Model:
             changes["rtol"] = exp.spec.solver.rtol
         if exp.spec.solver.atol is not None:
             changes["atol"] = exp.spec.solver.atol
+        self.t_max = settings.t_end
         if data.kind == "steady":
-            if exp.spec.steady.t_end is not None:
-                from blocks.units import quantity
+            from blocks.units import quantity
 
+            if exp.spec.steady.t_end is not None:
                 changes["t_end"] = quantity(exp.spec.steady.t_end, "s")
             t_end = changes.get("t_end", settings.t_end)
-            # only the end and the 80 % point are read: ten output intervals keep a settling run one call of
-            # the compiled integrator (blocks/solve/run.py slices runs of 20 or more output times)
             changes["dt_out"] = (t_end - settings.t_start) / 10.0
+            span = t_end - settings.t_start
+            self.t_max = quantity(exp.spec.steady.t_max, "s") if exp.spec.steady.t_max is not None \
+                else settings.t_start + 8.0 * span
+            if self.t_max < t_end:
+                raise VphsError(f"{exp.file}: steady.t_max = {self.t_max:g} s is shorter than the settling run "
+                                f"({t_end:g} s)")
         self.settings = settings.with_(**changes)
         if data.kind == "time":
             if data.t[0] < self.settings.t_start - 1e-12 or data.t[-1] > self.settings.t_end + 1e-12:
@@ -116,6 +125,7 @@ class Model:
         self.signal_index = {o.name: k for k, o in enumerate(circuit.outputs)}
         self._cache: dict = {}
         self.unsettled: set[int] = set()
+        self.run_end: dict[int, float] = {}  # steady point -> the end time of its lengthened settling run
         self.failures: list[str] = []
         self.simulations = 0
 
@@ -181,9 +191,30 @@ class Model:
                     offset[index[ch]] += x[k]
         return gain, offset
 
-    def _run(self, overrides: dict):
+    def _run(self, overrides: dict, settings=None):
         self.simulations += 1
-        return self.circuit.simulate(overrides, settings=self.settings)
+        return self.circuit.simulate(overrides, settings=settings or self.settings)
+
+    def _settling_run(self, k: int, over: dict) -> tuple[np.ndarray, bool]:
+        """The end values of point k's settling run, lengthened (doubled) while not settled, up to t_max.
+        Only the end and the 80 % point are read: ten output intervals keep a run one call of the compiled
+        integrator (blocks/solve/run.py slices runs of 20 or more output times)."""
+        t0 = self.settings.t_start
+        t_end = self.run_end.get(k, self.settings.t_end)
+        while True:
+            result = self._run(over, self.settings.with_(t_end=t_end, dt_out=(t_end - t0) / 10.0))
+            back = int(0.8 * (len(result.t) - 1))
+            settled = True
+            for c in self.channels:
+                if c.role == "output":
+                    col = self.signal_index[c.signal]
+                    if abs(result.values[-1, col] - result.values[back, col]) > self.exp.spec.steady.settle_tol * \
+                            self.data.sigma[c.name]:
+                        settled = False
+            if settled or t_end >= self.t_max:
+                return result.values[-1, :].copy(), settled
+            t_end = min(t0 + 2.0 * (t_end - t0), self.t_max)
+            self.run_end[k] = t_end
 
     def _steady_point(self, k: int, x: np.ndarray, base: dict) -> np.ndarray | None:
         over = dict(base)
@@ -191,30 +222,20 @@ class Model:
         for i, name in enumerate(self.layout.inputs):
             param = next(c.parameter for c in self.channels if c.name == name)
             over[param] = float(x[self.layout.latent_index(k, i)])
-        key = (k, tuple(sorted(over.items())))
+        key = (k, self.run_end.get(k), tuple(sorted(over.items())))
         if key in self._cache:
             return self._cache[key]
         try:
-            result = self._run(over)
+            values, settled = self._settling_run(k, over)
         except (SimulationError, ParameterError, VphsError) as exc:
             self.failures.append(f"point {k + 1}: {exc}")
             self._cache[key] = None
             return None
-        values = result.values[-1, :].copy()
-        n = len(result.t)
-        back = int(0.8 * (n - 1))
-        settled = True
-        for c in self.channels:
-            if c.role == "output":
-                col = self.signal_index[c.signal]
-                if abs(result.values[-1, col] - result.values[back, col]) > self.exp.spec.steady.settle_tol * \
-                        self.data.sigma[c.name]:
-                    settled = False
         if not settled:
             self.unsettled.add(k)
         else:
             self.unsettled.discard(k)
-        self._cache[key] = values
+        self._cache[(k, self.run_end.get(k), key[2])] = values
         if len(self._cache) > 200_000:
             self._cache.clear()
         return values
