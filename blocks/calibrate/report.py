@@ -103,8 +103,8 @@ def build(cal) -> dict:
         "data": [str(f) for f in exp.data_files] if len(exp.data_files) > 1 else str(exp.data),
         "kind": data.kind, "points": data.n, "groups": list(data.groups),
         "verdict": cal.verdict, "unexplained_discrepancy": cal.unexplained,
-        "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u}
-                    for k, t, w, p, v, s, u in cal.accepted],
+        "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u,
+                     "superseded": not abs(v) > 3.0 * s} for k, t, w, p, v, s, u in cal.accepted],
         "overall": {tag: ({"chi2": st.lof.chi2, "n": st.lof.n, "p": st.lof.p, "nu": st.lof.nu,
                            "chi2_nu": st.lof.reduced, "p_value": st.lof.p_value, "bic": st.fit.bic(),
                            "heldout_error": st.heldout.error if st.heldout else None,
@@ -171,9 +171,10 @@ def markdown(cal, info: dict) -> str:
                          f"| {_g(r.get('xcorr_before'), 2)} | {_g(r.get('xcorr_after'), 2)} |")
     L += ["", "## Effects found", ""]
     if info["effects"]:
-        L += ["| effect | where | parameter | value | SE | unit |", "|---|---|---|---|---|---|"]
+        L += ["| effect | where | parameter | value | SE | unit | in the final fit |", "|---|---|---|---|---|---|---|"]
         for e in info["effects"]:
-            L.append(f"| {e['title']} | {e['where']} | `{e['parameter']}` | {_g(e['value'])} | {_g(e['se'], 2)} | {e['unit']} |")
+            L.append(f"| {e['title']} | {e['where']} | `{e['parameter']}` | {_g(e['value'])} | {_g(e['se'], 2)} | "
+                     f"{e['unit']} | {'superseded (within 3 SE of 0)' if e['superseded'] else 'over 3 SE from 0'} |")
         L += ["", "Sensor corrections (offset, gain) act on the logged signal in post-processing, not in the netlist; "
                   "they are written to `experiment_augmented.yaml` under `corrections:`."]
     else:

@@ -286,10 +286,17 @@ def _carry(res: FitResult, model: Model, smodel: Model) -> FitResult:
 
 
 def verdict(cal: Calibration) -> tuple[list[str], bool]:
+    """The report's verdict lines and whether a discrepancy remains unexplained. An accepted effect that the
+    final fit no longer holds over 3 SE from zero (a later effect explains what it did) is "superseded", not
+    "found"; it stays in the augmented netlist, where its fitted value is what the final fit says."""
     lines = []
     for key, title, where, param, value, se, unit in cal.accepted:
         shown = f" {unit}" if unit not in ("1", "", "SI") else ""
-        lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g}{shown}")
+        if abs(value) > 3.0 * se:
+            lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g}{shown}")
+        else:
+            lines.append(f"superseded: {title} {where}: {param} = {value:.4g} +- {se:.2g}{shown} in the final "
+                         f"fit, no longer over 3 SE from zero (a later effect explains what it did)")
     for rnd in cal.rounds:
         if rnd.decision.ambiguous:
             best = rnd.decision.accepted or next((r for r in rnd.decision.refits if r.passes_fit_tests), None)

@@ -100,3 +100,19 @@ def test_places_in_the_drive_line_and_a_series_patch(tmp_path):
     r1 = Circuit.from_file(tmp_path / "patched.yaml").simulate()
     for name, sigma in (("pA", 1e5), ("speed", 5 * 2 * np.pi / 60)):
         assert np.max(np.abs(np.interp(r0.t, r1.t, r1[name]) - r0[name])) < 0.05 * sigma
+
+
+def test_an_effect_the_final_fit_drives_to_zero_is_superseded_not_found():
+    """Round 1 took a leakage P1->T, round 2 the planted one R->V, and the final fit holds the first at
+    1e-28 +- 2.8e-12: the verdict must not call it found."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.run import verdict
+
+    cal = SimpleNamespace(rounds=[], final=None, accepted=[
+        ("leakage@P1-T", "internal leakage", "P1 to T", "cal_gl_P1_T", 1e-28, 2.8e-12, "m^3/(s*Pa)"),
+        ("leakage@R-V", "internal leakage", "R to V", "cal_gl_R_V", 1.7e-11, 4.2e-12, "m^3/(s*Pa)")])
+    lines, unexplained = verdict(cal)
+    assert lines[0].startswith("superseded: internal leakage P1 to T: cal_gl_P1_T = 1e-28 +- 2.8e-12")
+    assert lines[1].startswith("found: internal leakage R to V: cal_gl_R_V = 1.7e-11 +- 4.2e-12")
+    assert not unexplained
