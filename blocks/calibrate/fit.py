@@ -32,6 +32,7 @@ class FitResult:
     message: str
     unsettled: int
     failures: list[str]
+    converged: bool = True  # False: stopped at the evaluation limit (max_nfev) before a tolerance was met
 
     @property
     def nu(self) -> int:
@@ -90,15 +91,15 @@ def fit(model: Model, x0: np.ndarray, active: np.ndarray, rows: np.ndarray | Non
         res = least_squares(fun, z0, jac=jac, bounds=(lo[cols], hi[cols]), method="trf", x_scale="jac",
                             ftol=tol, xtol=tol, gtol=tol, max_nfev=max_nfev)
         x = full(res.x)
-        nfev, message = res.nfev, res.message
+        nfev, message, converged = res.nfev, res.message, res.status != 0  # status 0: max_nfev reached
     else:
-        x, nfev, message = x_base, 0, "nothing to fit"
+        x, nfev, message, converged = x_base, 0, "nothing to fit", True
     r = model.residuals(x, points)
     J = model.jacobian(x, cols, points, r)[rows] if cols.size else np.zeros((int(rows.sum()), 0))
-    return summarise(model, x, active, rows, r, J, nfev, message)
+    return summarise(model, x, active, rows, r, J, nfev, message, converged)
 
 
-def summarise(model: Model, x, active, rows, r, J, nfev=0, message="") -> FitResult:
+def summarise(model: Model, x, active, rows, r, J, nfev=0, message="", converged=True) -> FitResult:
     chi2 = float(np.sum(r[rows] ** 2))
     n, p = int(rows.sum()), int(np.sum(active))
     cov = covariance(J)
@@ -108,7 +109,7 @@ def summarise(model: Model, x, active, rows, r, J, nfev=0, message="") -> FitRes
     se[np.nonzero(active)[0]] = np.sqrt(np.maximum(np.diag(cov), 0.0)) if p else []
     unsettled = len(model.unsettled) if model.data.kind == "steady" else 0
     return FitResult(x, np.asarray(active, bool), rows, r, J, chi2, n, p, cov, se, nfev, message, unsettled,
-                     list(model.failures))
+                     list(model.failures), converged)
 
 
 def covariance(J: np.ndarray) -> np.ndarray:

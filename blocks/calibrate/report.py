@@ -111,6 +111,7 @@ def build(cal) -> dict:
                            "heldout_scheme": st.heldout.scheme if st.heldout else None,
                            "unsettled_points": st.fit.unsettled, "failed_runs": st.fit.failures[:5],
                            "lengthened_runs": {str(k + 1): t for k, t in sorted(st.model.run_end.items())},
+                           "fit_evaluations": st.fit.nfev, "fit_converged": st.fit.converged,
                            "block_means_chi2": st.lof.blocks_chi2, "block_means_dof": st.lof.blocks_dof,
                            "block_means_p": st.lof.blocks_p}
                           if st else None)
@@ -148,7 +149,9 @@ def markdown(cal, info: dict) -> str:
             L.append(f"- {tag}: chi^2 = {_g(o['chi2'])} on nu = {o['nu']} (chi^2/nu = {_g(o['chi2_nu'], 3)}, "
                      f"p = {_g(o['p_value'], 2)}), BIC = {_g(o['bic'], 6)}, held-out error "
                      f"{_g(o['heldout_error'], 3)} ({o['heldout_scheme']}); unsettled points: "
-                     f"{o['unsettled_points']}" + _lengthened(o['lengthened_runs']))
+                     f"{o['unsettled_points']}" + _lengthened(o['lengthened_runs'])
+                     + ("" if o["fit_converged"] else f"; the fit stopped at its limit of {o['fit_evaluations']} "
+                                                      f"evaluations before converging"))
     L += ["", "| channel | unit | noise | RMSE before | chi^2/nu before | RMSE after | chi^2/nu after | "
               "held-out RMSE before | held-out RMSE after |", "|---|---|---|---|---|---|---|---|---|"]
     for r in info["channels"]:

@@ -282,7 +282,7 @@ def _carry(res: FitResult, model: Model, smodel: Model) -> FitResult:
         if n in old:
             se[j] = res.se[old[n]]
     return FitResult(x, active, res.rows, res.r, res.J, res.chi2, res.n, res.p, res.cov, se, res.nfev, res.message,
-                     res.unsettled, res.failures)
+                     res.unsettled, res.failures, res.converged)
 
 
 def verdict(cal: Calibration) -> tuple[list[str], bool]:
@@ -304,6 +304,9 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines.append(f"round {rnd.index}: ambiguous between {name} and {', '.join(rnd.decision.ambiguous)}")
             lines += [f"  to separate them: {s}" for s in rnd.decision.separation]
     unexplained = False
+    if cal.final is not None and not cal.final.fit.converged:
+        lines.append(f"the final fit stopped at its limit of {cal.final.fit.nfev} evaluations before converging: "
+                     f"its values may not be the best fit")
     if cal.final is not None:
         reasons = cal.final.lof.significant()
         if reasons:

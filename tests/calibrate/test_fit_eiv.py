@@ -76,3 +76,15 @@ def test_latent_inputs_take_the_errors_in_variables_closed_form(tmp_path):
     # each point: 2 residuals, 1 latent; chi^2 = sum (p_m - R q_m)^2 / (sp^2 + R^2 sq^2) in closed form
     chi2 = float(np.sum((Pm - R * Qm) ** 2 / (sp ** 2 + R * R * sq ** 2)))
     assert res.chi2 == pytest.approx(chi2, rel=1e-5)
+
+
+def test_a_fit_stopped_at_its_evaluation_limit_says_so(tmp_path):
+    q = np.linspace(2.0, 20.0, 6)
+    p = q / 60000 / G_TRUE / 1e5
+    model = make(tmp_path, q, p, 1e-6, 0.1)
+    x0 = model.initial()
+    x0[model.layout.index("G")] = 1e-11  # far off: one evaluation cannot get there
+    stopped = fit(model, x0, np.ones(model.layout.size, dtype=bool), max_nfev=1)
+    assert not stopped.converged and stopped.nfev == 1
+    done = fit(model, x0, np.ones(model.layout.size, dtype=bool))
+    assert done.converged and done.x[model.layout.index("G")] == pytest.approx(G_TRUE, rel=1e-4)

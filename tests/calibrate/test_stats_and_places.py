@@ -116,3 +116,17 @@ def test_an_effect_the_final_fit_drives_to_zero_is_superseded_not_found():
     assert lines[0].startswith("superseded: internal leakage P1 to T: cal_gl_P1_T = 1e-28 +- 2.8e-12")
     assert lines[1].startswith("found: internal leakage R to V: cal_gl_R_V = 1.7e-11 +- 4.2e-12")
     assert not unexplained
+
+
+def test_a_final_fit_that_did_not_converge_is_in_the_verdict():
+    from types import SimpleNamespace
+
+    from blocks.calibrate.run import verdict
+
+    final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60), lof=SimpleNamespace(significant=lambda: []))
+    lines, _ = verdict(SimpleNamespace(rounds=[], final=final, accepted=[]))
+    assert lines[0] == "the final fit stopped at its limit of 60 evaluations before converging: its values may " \
+                       "not be the best fit"
+    final.fit.converged = True
+    lines, _ = verdict(SimpleNamespace(rounds=[], final=final, accepted=[]))
+    assert lines == ["no effect found: the declared model fits to the noise"]
