@@ -195,8 +195,12 @@ class Setup:
         if self.kind == "steady":
             p1, p2, p3 = [], [], []
             flows = self.inputs["Q"] if flows is None else flows
+            # truly steady: 8 x the netlist's 0.15 s (a planted leakage across the relief fills the inlet volume
+            # with a time constant of about 0.1 s at low flow, still moving at 0.15 s)
+            t_end = 8.0 * circuit.settings.t_end
+            settle = circuit.settings.with_(t_end=t_end, dt_out=t_end / 10.0)
             for label, q in zip(self.labels, flows):
-                r = circuit.simulate({"Q_in": float(q), "p_set": STEADY_SETTINGS[label]})
+                r = circuit.simulate({"Q_in": float(q), "p_set": STEADY_SETTINGS[label]}, settings=settle)
                 p1.append(r["p1"][-1])
                 p2.append(r["p2"][-1])
                 p3.append(r["p3"][-1])

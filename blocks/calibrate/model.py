@@ -21,11 +21,11 @@ not in the netlist.
 Steady points: each point is a settling run (``simulation.t_end`` of the netlist or ``steady.t_end``) with
 the imposed inputs and group values as parameters; the outputs are read at the end. A point counts as
 settled when every compared signal moved less than ``settle_tol`` * sigma over the last 20 % of the run.
-A point not settled (a slowly decaying oscillation, say) is run again with its run doubled, up to
-``steady.t_max`` (default 8 x t_end); the length that settled it is kept for that point from then on, so
-that every later evaluation of it (finite differences included) reads the same run length and the
-residual stays a smooth function of x rather than of an oscillation's phase at t_end. Points still
-unsettled at t_max are counted and reported (never silently used as if steady).
+A point not settled at its first evaluation in a model (a slowly decaying oscillation, say) is run again
+with its run doubled, up to ``steady.t_max`` (default 8 x t_end), and the length that settled it is then
+fixed for that point in this model: every later evaluation (finite differences included) reads the same run
+length, so the residual is a function of x alone, whatever was evaluated before (an optimiser needs that).
+Points unsettled at their fixed length are counted and reported (never silently used as if steady).
 Time series: one run; logged signals are interpolated linearly onto the data's times, which must lie inside
 the simulated span.
 """
@@ -126,6 +126,7 @@ class Model:
         self._cache: dict = {}
         self.unsettled: set[int] = set()
         self.run_end: dict[int, float] = {}  # steady point -> the end time of its lengthened settling run
+        self._length_fixed: set[int] = set()  # steady points whose run length is decided
         self.failures: list[str] = []
         self.simulations = 0
 
@@ -196,11 +197,14 @@ class Model:
         return self.circuit.simulate(overrides, settings=settings or self.settings)
 
     def _settling_run(self, k: int, over: dict) -> tuple[np.ndarray, bool]:
-        """The end values of point k's settling run, lengthened (doubled) while not settled, up to t_max.
-        Only the end and the 80 % point are read: ten output intervals keep a run one call of the compiled
-        integrator (blocks/solve/run.py slices runs of 20 or more output times)."""
+        """The end values of point k's settling run; at the point's first evaluation lengthened (doubled)
+        while not settled, up to t_max, and the length then fixed. Only the end and the 80 % point are read:
+        ten output intervals keep a run one call of the compiled integrator (blocks/solve/run.py slices runs
+        of 20 or more output times)."""
         t0 = self.settings.t_start
         t_end = self.run_end.get(k, self.settings.t_end)
+        first = k not in self._length_fixed
+        self._length_fixed.add(k)
         while True:
             result = self._run(over, self.settings.with_(t_end=t_end, dt_out=(t_end - t0) / 10.0))
             back = int(0.8 * (len(result.t) - 1))
@@ -211,7 +215,7 @@ class Model:
                     if abs(result.values[-1, col] - result.values[back, col]) > self.exp.spec.steady.settle_tol * \
                             self.data.sigma[c.name]:
                         settled = False
-            if settled or t_end >= self.t_max:
+            if settled or not first or t_end >= self.t_max:
                 return result.values[-1, :].copy(), settled
             t_end = min(t0 + 2.0 * (t_end - t0), self.t_max)
             self.run_end[k] = t_end
@@ -222,7 +226,7 @@ class Model:
         for i, name in enumerate(self.layout.inputs):
             param = next(c.parameter for c in self.channels if c.name == name)
             over[param] = float(x[self.layout.latent_index(k, i)])
-        key = (k, self.run_end.get(k), tuple(sorted(over.items())))
+        key = (k, tuple(sorted(over.items())))
         if key in self._cache:
             return self._cache[key]
         try:
@@ -235,7 +239,7 @@ class Model:
             self.unsettled.add(k)
         else:
             self.unsettled.discard(k)
-        self._cache[(k, self.run_end.get(k), key[2])] = values
+        self._cache[key] = values
         if len(self._cache) > 200_000:
             self._cache.clear()
         return values

@@ -1,5 +1,6 @@
-"""Steady points whose settling run is too short: the run is lengthened (doubled) until the point settles
-or ``steady.t_max`` is reached, and the length that settled it is kept for the point. Checked on a first-order
+"""Steady points whose settling run is too short: at the point's first evaluation the run is lengthened
+(doubled) until the point settles or ``steady.t_max`` is reached, and that length is then fixed for the
+point (the residual stays a function of x alone). Checked on a first-order
 circuit with a closed form: a flow source Q into a volume V drained by a laminar conductance G,
 p(t) = Q/G (1 - exp(-t/tau)), tau = V/(beta G)."""
 
@@ -21,9 +22,9 @@ Q_LPM = 6.0  # l/min: Q/G = 100 bar
 P_END = Q_LPM / 60000 / G
 NETLIST = {
     "fluid": {"rho": "850 kg/m^3", "nu": "3e-5 m^2/s", "beta": f"{BETA} Pa"},
-    "parameters": {"Q_in": f"{Q_LPM} l/min"},
+    "parameters": {"Q_in": f"{Q_LPM} l/min", "G_res": G},
     "components": {"tank": {"type": "tank"}, "pump": {"type": "flow_source", "params": {"q": "Q_in"}},
-                   "res": {"type": "laminar_orifice", "params": {"G": G}}},
+                   "res": {"type": "laminar_orifice", "params": {"G": "G_res"}}},
     "nets": {"T": ["tank.port", "pump.a", "res.b"], "P": {"ports": ["pump.b", "res.a"], "volume": f"{V} m^3"}},
     "outputs": {"p": {"of": "P", "unit": "bar"}},
     "simulation": {"t_end": f"{0.5 * TAU} s", "dt_out": "1 ms", "rtol": 1e-9, "atol": 1e-9},
@@ -36,6 +37,7 @@ def experiment(tmp_path, steady: dict) -> Model:
     spec = {"netlist": "fill.yaml", "data": "data.csv",
             "inputs": {"Q": {"parameter": "Q_in", "noise": "0.01 l/min"}},
             "outputs": {"p": {"signal": "p", "noise": "5 bar"}},  # settled: moved < 0.25 bar over the last 20 %
+            "free": {"G_res": {"initial": G, "lower": 1e-13, "upper": 1e-9}},
             "steady": steady}
     (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec))
     exp = load_experiment(tmp_path / "exp.yaml")
@@ -54,8 +56,13 @@ def test_a_short_run_is_lengthened_until_the_point_settles(tmp_path):
     assert p == pytest.approx(P_END * (1 - np.exp(-8.0)), rel=1e-6)
     runs = model.simulations
     predicted_p(model)  # cached
-    model.residuals(model.initial() * 1.001)  # a new input value: one run, at the kept length
+    model.residuals(model.initial() * 1.001)  # new values: one run, at the fixed length
     assert model.simulations == runs + 1 and model.run_end == {0: pytest.approx(8 * TAU)}
+    slow = model.initial()
+    slow[model.layout.index("G_res")] = G / 4  # tau x 4: 8 tau is now 2 of its own: not settled, not lengthened
+    p_slow = float(model.predictions(slow)[model.row_channel == 1][0])
+    assert model.simulations == runs + 2 and model.run_end == {0: pytest.approx(8 * TAU)} and model.unsettled == {0}
+    assert p_slow == pytest.approx(4 * P_END * (1 - np.exp(-2.0)), rel=1e-6)
 
 
 def test_a_point_still_moving_at_t_max_is_reported_unsettled(tmp_path):
