@@ -425,6 +425,17 @@ def table(results: list[dict]) -> str:
              "the accepted model is the truth's own structure, refitted, so its held-out ratio is what estimating "
              "the parameters costs, not a wrong model. The section at the end repeats the steady cases with 60 "
              "points instead of 21, where both criteria come within reach.",
+             "",
+             "Versions. The rows ran over three sessions. `steady_leakage` (both tables) ran with the final code: "
+             "steady truth read at 8 x 0.15 s, settling runs lengthened where a point has not settled. The other "
+             "rows of the first table ran before that: truth and model read at 0.15 s, which for those effects "
+             "is steady (sized on either truth, the planted values agree to 4 digits, the spool friction's to "
+             "0.04 %; the leakage's truth moves, a time constant of about 0.1 s at low flow, hence its rerun). "
+             "In `steady_two` and `time_two`, recovery was then judged in the round that found the effect, so a "
+             "planted effect found through another's ambiguity set and accepted in a later round was not judged "
+             "(fewer seeds in the rec column); these two rows were not rerun. In the 60-point section, `steady_none`, "
+             "`steady_flow_force` and the first seeds of the others ran before the lengthening; no record of a "
+             "case other than the leakage that counts lengthened points has one.",
              ""] + case_rows(results)
     lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
