@@ -288,6 +288,16 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     if not any(c.role == "output" for c in channels):
         raise located.error(("outputs",), "outputs: at least one compared column is needed")
 
+    for key in ("t_end", "t_max"):  # settling-run times: checked here, read by blocks/calibrate/model.py
+        raw = getattr(spec.steady, key)
+        if raw is not None:
+            try:
+                seconds = quantity(raw, "s")
+            except UnitError as exc:
+                raise located.error(("steady", key), f"steady.{key}: {exc}") from None
+            if not seconds > 0:
+                raise located.error(("steady", key), f"steady.{key} must be positive, got {raw}")
+
     overrides = {param_name(n, ("overrides", n)): si(n, v, ("overrides", n)) for n, v in spec.overrides.items()}
     groups: dict[str, dict[str, float]] = {}
     for label, values in spec.groups.items():

@@ -84,3 +84,16 @@ def test_a_t_max_below_the_run_is_a_one_line_error(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "steady.t_max = 0.01 s is shorter than the settling run" in err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("t_max", "5 bar", "steady.t_max: wrong unit 'bar'"), ("t_max", "abc", "steady.t_max: 'abc' is not"),
+    ("t_end", "-1 s", "steady.t_end must be positive")])
+def test_bad_settling_times_are_located_one_line_errors(tmp_path, capsys, key, value, message):
+    experiment(tmp_path, {})
+    spec = yaml.safe_load((tmp_path / "exp.yaml").read_text())
+    spec["steady"] = {key: value}
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec))
+    assert cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err and "exp.yaml" in err and "internal error" not in err
