@@ -43,8 +43,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
-from blocks.netlist.yaml_source import document_path
-from blocks.netlist.yaml_source import Located, read_yaml
+from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key
 from blocks.units import UnitError, nearest, parse_unit, quantity, split_quantity
 
 Value = Union[float, int, str]
@@ -185,10 +184,10 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
     except ValidationError as exc:
         first = exc.errors()[0]
         path = document_path(located.data, first["loc"])
-        where = ".".join(str(p) for p in path) or "experiment"
+        where = ".".join(shown_key(p) for p in path) or "experiment"
         message = first["msg"]
         if first["type"] == "extra_forbidden":
-            message = f"unknown key '{path[-1]}'" if path else "unknown key"
+            message = f"unknown key '{shown_key(path[-1])}'" if path else "unknown key"
             model = _model_at(path[:-1])
             if model is not None:
                 near = nearest(str(path[-1]), model.model_fields)

@@ -20,7 +20,7 @@ from blocks.block import ACROSS, Block, Param, PortKind
 from blocks.errors import NetlistError
 from blocks.netlist import spec
 from blocks.netlist.parameters import Entry, ParameterTable, make_array_entry, make_entry
-from blocks.netlist.yaml_source import Located, document_path, read_bounded, read_yaml
+from blocks.netlist.yaml_source import Located, document_path, read_bounded, read_yaml, shown_key
 from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity
 
 MAX_SUBSYSTEM_DEPTH = 8
@@ -103,10 +103,10 @@ def _load_spec(located: Located) -> spec.Netlist:
     except ValidationError as exc:
         first = exc.errors()[0]
         path = document_path(located.data, first["loc"])
-        where = ".".join(str(p) for p in path) or "netlist"
+        where = ".".join(shown_key(p) for p in path) or "netlist"
         message = first["msg"]
         if first["type"] == "extra_forbidden":
-            message = f"unknown key '{path[-1]}'" if path else "unknown key"
+            message = f"unknown key '{shown_key(path[-1])}'" if path else "unknown key"
             parent = _parent_model(path)
             if parent is not None:
                 near = nearest(str(path[-1]), parent.model_fields)

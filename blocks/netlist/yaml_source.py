@@ -173,3 +173,9 @@ def document_path(data, loc, known_fields=None) -> tuple:
             path.append(item)  # a key that should be there (missing) or is unknown
             break
     return tuple(path)
+
+
+def shown_key(key) -> str:
+    """A document key as an error message shows it: characters that do not print (a no-break space, a tab)
+    escaped, so that a key '\\xa0description' is not read as ' description'."""
+    return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(key))

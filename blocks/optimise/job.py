@@ -55,7 +55,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
-from blocks.netlist.yaml_source import Located, document_path, read_yaml
+from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
@@ -265,13 +265,13 @@ def _located(located: Located, exc: ValidationError, prefix: tuple, model=None) 
     errors = exc.errors()
     first = max(errors, key=lambda e: len(e["loc"]))  # of a union's branches, the one that got furthest
     path = prefix + document_path(_get(located.data, prefix), first["loc"], _ALL_FIELDS)
-    where = ".".join(str(p) for p in path) or "job"
+    where = ".".join(shown_key(p) for p in path) or "job"
     message = first["msg"]
     if path[:2] == ("sweep", "parameters") and len(path) == 3:
         message = "expected a list of values, or {min:, max:, points:, log:}"
     elif first["type"] == "extra_forbidden":
         parent = model if model is not None and len(path) == len(prefix) + 1 else _parent_model(path)
-        message = f"unknown key '{path[-1]}'"
+        message = f"unknown key '{shown_key(path[-1])}'"
         if parent is not None:
             near = nearest(str(path[-1]), parent.model_fields)
             message += f" (allowed: {', '.join(near or sorted(parent.model_fields))})"
@@ -404,7 +404,7 @@ class _Resolver:
     def value(self, name: str, raw, path: tuple) -> float:
         """A job value for parameter ``name`` in SI, its unit and bounds checked."""
         entry = self.entry(name, path[:-1] if path[-1] in ("min", "max") else path)
-        where = ".".join(str(p) for p in path)
+        where = ".".join(shown_key(p) for p in path)
         try:
             if entry.unit not in (None, GENERIC):
                 value = quantity(raw, entry.unit)
@@ -437,7 +437,7 @@ class _Resolver:
         return FreeParam(name, *self.bounds(lower, upper, p.log, path), p.log, self.unit_of(name))
 
     def bounds(self, lower: float, upper: float, log: bool, path: tuple) -> tuple[float, float]:
-        where = ".".join(str(p) for p in path)
+        where = ".".join(shown_key(p) for p in path)
         if not upper > lower:
             raise self.error(path + ("max",), f"{where}: max ({upper:g}) must be above min ({lower:g})")
         if log and not lower > 0:

@@ -215,3 +215,13 @@ def test_control_character_gives_one_line(workdir):
     text = doc.decode()
     expected_line = text[: text.index("\x1f")].count("\n") + 1
     assert line == expected_line, outcome
+
+
+def test_a_key_with_an_invisible_character_is_shown_escaped(tmp_path):
+    """The fuzzer's find: a no-break space before a top-level key. The message names the file and shows the
+    key as \\xa0description, not as ' description'."""
+    text = "\xa0description: x\ncomponents: {tank: {type: tank}}\nnets: {T: [tank.port]}\n"
+    path = tmp_path / "mutant.yaml"
+    path.write_text(text)
+    outcome = check_mutant(tmp_path, text.encode())
+    assert "unknown key '\\xa0description'" in outcome and outcome.startswith(f"{path}:1:1: \\xa0description:")
