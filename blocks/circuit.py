@@ -160,6 +160,24 @@ class Circuit:
             raise SimulationError(self._failure_message(outcome), ) from None
         return result
 
+    def equilibrium(self, overrides: dict[str, float] | None = None, guess: np.ndarray | None = None,
+                    t: float | None = None, tol: float = 1e-10, max_iter: int = 50) -> "Equilibrium":
+        """The equilibrium f(t, x) = 0 nearest (in Newton's sense) to the state ``guess`` (default: the
+        netlist's initial state), with inputs held at their values at ``t`` (default: the end of the
+        simulation); see :mod:`blocks.solve.equilibrium`. Never raises for a failed solve: the status says
+        it. Stability is judged from the Jacobian's eigenvalues (``growth`` = the largest real part, 1/s)."""
+        vec = self.vectors(overrides)
+        if self.module is None:
+            self.compile()
+        from blocks.solve.run import nominal_vector
+
+        x_guess = np.array(vec.x0 if guess is None else guess, dtype=float)
+        t_eq = self.settings.t_end if t is None else float(t)
+        status, x, y, J, iterations = self.module.equilibrium(
+            x_guess, vec.theta, t_eq, nominal_vector(self), float(tol), int(max_iter), len(self.outputs))
+        growth = float(np.max(np.linalg.eigvals(J).real)) if status == 0 and len(x) else float("nan")
+        return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations))
+
     def _cavitation(self, outcome, vec: Vectors) -> list[str]:
         p_vap = vec.values["fluid.vapour_pressure"]
         found = []
@@ -232,6 +250,25 @@ class Circuit:
             display = "bar" if unit == "Pa" else unit
             out.append(ResolvedOutput(net.name, expr, unit, display))
         return out
+
+
+@dataclass
+class Equilibrium:
+    """An equilibrium of the circuit (:meth:`Circuit.equilibrium`); status 0 when Newton converged."""
+
+    status: int  # 0 converged, 1 singular Jacobian, 2 no convergence, 3 non-finite values
+    states: np.ndarray
+    values: np.ndarray  # the logged signals at the equilibrium, SI (NaN unless converged)
+    names: list[str]
+    growth: float  # the largest real part of the Jacobian's eigenvalues, 1/s (< 0: stable)
+    iterations: int
+
+    @property
+    def stable(self) -> bool:
+        return self.status == 0 and self.growth < 0.0
+
+    def __getitem__(self, name: str) -> float:
+        return float(self.values[self.names.index(name)])
 
 
 @dataclass

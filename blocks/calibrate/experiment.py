@@ -23,7 +23,9 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, leave_one_experiment_out (each
                                                 # data file in turn) or {scheme: kfold_experiments, k: 3}
     steady: {t_end: "0.15 s", settle_tol: 0.05} # settling runs (steady data); t_max: the longest a run
-                                                # not settled at t_end may be lengthened to (8 x t_end)
+                                                # not settled at t_end may be lengthened to (8 x t_end);
+                                                # method: equilibrium (default: a point's equilibrium by
+                                                # Newton, started from its first settling run) or settle
     trace: {rounds: 3, top: 3, exclude: [extra_volume]}
     solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
 
@@ -78,6 +80,7 @@ class SteadySpec(_Strict):
     t_end: Value | None = None
     t_max: Value | None = None  # the longest a settling run may be lengthened to (default 8 x t_end)
     settle_tol: float = Field(0.05, gt=0)
+    method: Literal["equilibrium", "settle"] = "equilibrium"  # Newton from each point's settled state, or runs only
 
 
 class TraceSpec(_Strict):

@@ -126,7 +126,7 @@ def build(cal) -> dict:
                     "ambiguous": r.decision.ambiguous, "separation": r.decision.separation,
                     "heldout_error": r.stage.heldout.error if r.stage.heldout else None}
                    for r in cal.rounds],
-        "simulations": cal.simulations, "seconds": cal.seconds,
+        "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
     }
 
 
@@ -234,7 +234,7 @@ def markdown(cal, info: dict) -> str:
             L += ["", f"Augmented netlist: `{r['augmented_netlist']}`"]
         L.append("")
     L += ["## Plots", "", "![residuals](residuals.png)", "",
-          f"Runs: {cal.simulations} simulations; time: "
+          f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
           + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
     return "\n".join(L)
 

@@ -74,7 +74,8 @@ class Calibration:
     unexplained: bool = False
     accepted: list = field(default_factory=list)  # (key, title, where, param, value, se, unit)
     seconds: dict = field(default_factory=dict)
-    simulations: int = 0
+    simulations: int = 0  # settling runs and time-series runs
+    equilibria: int = 0  # Newton solves of steady points
 
 
 def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: int | None = None,
@@ -94,7 +95,6 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
     for k in range(1, n_rounds + 1):
         t0 = time.perf_counter()
         stage = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
-        cal.simulations += stage.model.simulations
         say(f"round {k}: fitted {len(globals_)} parameters, chi^2/nu = {stage.lof.reduced:.3g} "
             f"({stage.model.simulations} runs, {time.perf_counter() - t0:.1f} s)")
         if k == 1:
@@ -104,6 +104,8 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         stage.heldout = rnd.decision.base_heldout or (heldout(stage.model, stage.fit, exp.spec.heldout)
                                                        if with_heldout else None)
         cal.rounds.append(rnd)
+        cal.simulations += stage.model.simulations  # the fit's, the trace's (screening, refits) and held-out
+        cal.equilibria += stage.model.equilibria
         cal.seconds[f"round {k}"] = time.perf_counter() - t0
         acc = rnd.decision.accepted
         say(f"round {k}: screened {len(rnd.scores)} candidate places ({time.perf_counter() - t1:.1f} s): "
@@ -134,6 +136,7 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         final = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
         final.heldout = heldout(final.model, final.fit, exp.spec.heldout) if with_heldout else None
         cal.simulations += final.model.simulations
+        cal.equilibria += final.model.equilibria
         cal.seconds["final fit"] = time.perf_counter() - t0
         cal.final = final
     else:
@@ -235,6 +238,7 @@ def trace_round(k: int, stage: Stage, exp: Experiment, data: Dataset, globals_: 
     sbase = _carry(stage.fit, stage.model, smodel)
     scores, consistency = screen(smodel, xs, sbase, places, column_of)
     stage.model.simulations += smodel.simulations
+    stage.model.equilibria += smodel.equilibria
     lean: dict[str, Model] = {}
 
     def candidate_model(score: Score):
@@ -259,6 +263,7 @@ def trace_round(k: int, stage: Stage, exp: Experiment, data: Dataset, globals_: 
                       with_heldout)
     for model in lean.values():
         stage.model.simulations += model.simulations
+        stage.model.equilibria += model.equilibria
     return Round(k, stage, scores, consistency, decision, list(ctx.notes), screening_file, smodel=smodel)
 
 

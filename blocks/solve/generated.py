@@ -2,8 +2,9 @@
 
 The source defines ``rhs(t, x, theta, dx)`` and ``observe(t, x, theta, y)`` as ``@njit(cache=True)``
 functions over arrays. The builder appends C-callable wrappers of both (numba ``cfunc``s of
-:data:`blocks.solve.rosenbrock.RHS_SIGNATURE`) and an ``integrate(...)`` that hands them to the shared,
-once-compiled Rodas4P2 integrator. The text is written once to ``cache_dir/<name_hint>_<sha256[:16]>.py``
+:data:`blocks.solve.rosenbrock.RHS_SIGNATURE`), an ``integrate(...)`` that hands them to the shared,
+once-compiled Rodas4P2 integrator and an ``equilibrium(...)`` that hands them to the shared Newton solver
+(:mod:`blocks.solve.equilibrium`). The text is written once to ``cache_dir/<name_hint>_<sha256[:16]>.py``
 (content-addressed, so numba's on-disk cache next to it stays valid across processes) and imported.
 """
 
@@ -25,6 +26,7 @@ HEADER = (
     "import math\n"
     "import numpy as np\n"
     "from numba import carray, cfunc, njit\n"
+    "from blocks.solve import equilibrium as _equilibrium\n"
     "from blocks.solve import rosenbrock as _rosenbrock\n"
     "\n"
 )
@@ -46,6 +48,11 @@ def integrate(x0, theta, t_out, rtol, atol, h0, h_max, max_steps, fixed_h, jac_p
     # blocks.solve.rosenbrock.integrate on this module's rhs and observe
     return _rosenbrock.integrate(rhs_c, observe_c, x0, theta, t_out, rtol, atol, h0, h_max, max_steps,
                                  fixed_h, jac_pattern, jac_groups, n_groups, n_obs)
+
+
+def equilibrium(x_guess, theta, t, scale, tol, max_iter, n_obs):
+    # blocks.solve.equilibrium.newton on this module's rhs and observe
+    return _equilibrium.newton(rhs_c, observe_c, x_guess, theta, t, scale, tol, max_iter, n_obs)
 """
 
 

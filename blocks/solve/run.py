@@ -40,9 +40,14 @@ def output_times(settings: SolverSettings) -> np.ndarray:
     return t
 
 
-def atol_vector(circuit, settings: SolverSettings) -> np.ndarray:
-    return np.concatenate([np.full(s.size, settings.atol * s.nominal) for s in circuit.structure.states]) \
+def nominal_vector(circuit) -> np.ndarray:
+    """Each state's nominal magnitude (1 bar for a pressure, 1 rad/s for a speed...), SI."""
+    return np.concatenate([np.full(s.size, float(s.nominal)) for s in circuit.structure.states]) \
         if circuit.structure.states else np.zeros(0)
+
+
+def atol_vector(circuit, settings: SolverSettings) -> np.ndarray:
+    return settings.atol * nominal_vector(circuit)
 
 
 def solve(circuit, vec, settings: SolverSettings, progress=None) -> Outcome:

@@ -32,13 +32,14 @@ NETLIST = {
 
 
 def experiment(tmp_path, steady: dict) -> Model:
+    """The fill circuit's experiment; settling runs only unless ``steady`` names another method."""
     (tmp_path / "fill.yaml").write_text(yaml.safe_dump(NETLIST))
     (tmp_path / "data.csv").write_text(f"Q [l/min],p [bar]\n{Q_LPM},{P_END / 1e5}\n")
     spec = {"netlist": "fill.yaml", "data": "data.csv",
             "inputs": {"Q": {"parameter": "Q_in", "noise": "0.01 l/min"}},
             "outputs": {"p": {"signal": "p", "noise": "5 bar"}},  # settled: moved < 0.25 bar over the last 20 %
             "free": {"G_res": {"initial": G, "lower": 1e-13, "upper": 1e-9}},
-            "steady": steady}
+            "steady": {"method": "settle", **steady}}
     (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec))
     exp = load_experiment(tmp_path / "exp.yaml")
     return Model(Circuit.from_file(exp.netlist), exp, load_data(exp), exp.free)
