@@ -513,7 +513,7 @@ def table(results: list[dict]) -> str:
                   "bar). The truth: that model with kp = 895 bar/unit at the measured points' Q and p2, plus the "
                   "planted effect. Steady points by equilibrium (`steady.method: equilibrium`, Newton from each "
                   "point's first settling run), which makes a seed affordable here (a settling run of this rig takes "
-                  "10-40 ms, a Newton solve 0.2 ms). Three candidates refitted per round (the default; the real "
+                  "2 to 40 ms, a Newton solve 0.15 ms: `python bench/steady_points.py`). Three candidates refitted per round (the default; the real "
                   "data's experiment refits 8). With 21 points, 4 channels and 2 latent inputs per point nu = 84 - 43 = "
                   f"41: the true model's chi^2/nu is in [0.8, 1.25] in {_band_rate(41)} of seeds in theory. The off-library "
                   "effect is a p3 sensor with a curved characteristic, c*((p3 - 55 bar)/25 bar)^2: over the points' "

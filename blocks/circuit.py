@@ -25,6 +25,7 @@ from blocks.compiler.structure import Structure, analyse, jacobian_pattern
 from blocks.errors import NetlistError, SimulationError
 from blocks.netlist.flatten import FlatCircuit, flatten
 from blocks.result import Result
+from blocks.solve.run import nominal_vector
 from blocks.solve.settings import SolverSettings, read_settings
 from blocks.units import UnitError, parse_unit
 
@@ -56,6 +57,7 @@ class Circuit:
         self.outputs = self._resolve_outputs()
         self.settings: SolverSettings = read_settings(flat)
         self.pattern = jacobian_pattern(self.structure)
+        self.nominal = nominal_vector(self)  # each state's nominal magnitude, SI (Newton's scale)
         self.groups, self.n_groups = _colour_columns(self.pattern)
         self.source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs])
         self.module = None
@@ -169,12 +171,10 @@ class Circuit:
         vec = self.vectors(overrides)
         if self.module is None:
             self.compile()
-        from blocks.solve.run import nominal_vector
-
         x_guess = np.array(vec.x0 if guess is None else guess, dtype=float)
         t_eq = self.settings.t_end if t is None else float(t)
         status, x, y, J, iterations = self.module.equilibrium(
-            x_guess, vec.theta, t_eq, nominal_vector(self), float(tol), int(max_iter), len(self.outputs))
+            x_guess, vec.theta, t_eq, self.nominal, float(tol), int(max_iter), len(self.outputs))
         growth = float(np.max(np.linalg.eigvals(J).real)) if status == 0 and len(x) else float("nan")
         return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations))
 

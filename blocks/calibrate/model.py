@@ -27,7 +27,8 @@ and the equilibrium is used if both converge to the same state, it is stable (ev
 the left half-plane) and each compared output is within one sigma of the run's end (plus what the run still
 moved over its last 20 %). That state is then the point's reference: every later evaluation in the model
 starts Newton from it, so the outputs are a function of x alone, exact to the solver's tolerance (no
-settling error for finite differences to amplify), and about 50 times faster than a run. An evaluation
+settling error for finite differences to amplify), and faster than a run: 12-21 times on the MCV rig's
+21 points at its declared start (``python bench/steady_points.py``), more where runs are slower. An evaluation
 whose Newton fails or ends on an unstable equilibrium falls back to the settling run (counted).
 Points without a usable equilibrium (a family of equilibria such as a spool held anywhere in its friction
 band, whose rest depends on the way there; a limit cycle) and ``method: settle`` use settling runs: the
@@ -142,7 +143,6 @@ class Model:
         self.method = exp.spec.steady.method
         self.reference: dict[int, np.ndarray] = {}  # steady point -> the equilibrium state Newton starts from
         self.reference_time: dict[int, float] = {}
-        self._nominal_states: np.ndarray | None = None
         self.failures: list[str] = []
         self.simulations = 0
         self.equilibria = 0  # Newton solves
@@ -216,20 +216,31 @@ class Model:
 
     def _settling_run(self, k: int, over: dict, lengthen: bool = True):
         """Point k's settling run: (end values, settled, result). At the point's first evaluation (and with
-        ``lengthen``) a run that has not settled is doubled, up to t_max, and the length then fixed. Only the
-        end and the 80 % point are read: ten output intervals keep a run one call of the compiled integrator
-        (blocks/solve/run.py slices runs of 20 or more output times)."""
-        t0 = self.settings.t_start
-        t_end = self.run_end.get(k, self.settings.t_end)
+        ``lengthen``) a run that has not settled is lengthened (:meth:`_lengthened`) and its length fixed.
+        Only the end and the 80 % point are read: ten output intervals keep a run one call of the compiled
+        integrator (blocks/solve/run.py slices runs of 20 or more output times)."""
         first = lengthen and k not in self._length_fixed
         self._length_fixed.add(k)
-        while True:
-            result = self._run(over, self.settings.with_(t_end=t_end, dt_out=(t_end - t0) / 10.0))
-            settled = self._motion(result).max(initial=0.0) <= self.exp.spec.steady.settle_tol
-            if settled or not first or t_end >= self.t_max:
-                return result.values[-1, :].copy(), settled, result
-            t_end = min(t0 + 2.0 * (t_end - t0), self.t_max)
+        result = self._run_to(over, self.run_end.get(k, self.settings.t_end))
+        if first:
+            result = self._lengthened(k, over, result)
+        return result.values[-1, :].copy(), self._settled(result), result
+
+    def _run_to(self, over: dict, t_end: float):
+        t0 = self.settings.t_start
+        return self._run(over, self.settings.with_(t_end=t_end, dt_out=(t_end - t0) / 10.0))
+
+    def _lengthened(self, k: int, over: dict, result):
+        """Point k's run doubled while it has not settled, up to t_max; the length reached is kept in run_end."""
+        t0 = self.settings.t_start
+        while not self._settled(result) and result.t[-1] < self.t_max:
+            t_end = min(t0 + 2.0 * (result.t[-1] - t0), self.t_max)
             self.run_end[k] = t_end
+            result = self._run_to(over, t_end)
+        return result
+
+    def _settled(self, result) -> bool:
+        return bool(self._motion(result).max(initial=0.0) <= self.exp.spec.steady.settle_tol)
 
     def _motion(self, result) -> np.ndarray:
         """How far each compared output moved over the last 20 % of a run, in its noise sigmas."""
@@ -247,7 +258,7 @@ class Model:
         compared output must lie within one noise sigma of the run's end, plus however far the run still
         moved over its last 20 %."""
         t_eq = float(result.t[-1])
-        nominal = self._nominal()
+        nominal = self.circuit.nominal
         x_end = result.states[-1]
         end = self.circuit.equilibrium(over, guess=x_end, t=t_eq)
         self.equilibria += 1
@@ -266,13 +277,6 @@ class Model:
                 return None
         return end
 
-    def _nominal(self) -> np.ndarray:
-        if self._nominal_states is None:
-            from blocks.solve.run import nominal_vector
-
-            self._nominal_states = nominal_vector(self.circuit)
-        return self._nominal_states
-
     def _steady_values(self, k: int, over: dict) -> tuple[np.ndarray, bool]:
         """The outputs of point k and whether they are steady (see the module docstring)."""
         if k in self.reference:
@@ -283,17 +287,15 @@ class Model:
             self.fallbacks += 1
             values, settled, _ = self._settling_run(k, over, lengthen=False)
             return values, settled
-        first = k not in self._length_fixed
-        if first and self.method == "equilibrium":
+        if k not in self._length_fixed and self.method == "equilibrium":
             self._length_fixed.add(k)
-            values, settled, result = self._settling_run(k, over, lengthen=False)
+            result = self._run_to(over, self.settings.t_end)
             eq = self._first_equilibrium(over, result)
             if eq is not None:
                 self.reference[k], self.reference_time[k] = eq.states, float(result.t[-1])
                 return eq.values.copy(), True
-            if settled:
-                return values, settled
-            self._length_fixed.discard(k)  # no equilibrium to use: lengthen the run instead
+            result = self._lengthened(k, over, result)  # no equilibrium to use: the run, lengthened if need be
+            return result.values[-1, :].copy(), self._settled(result)
         values, settled, _ = self._settling_run(k, over)
         return values, settled
 
