@@ -133,3 +133,15 @@ def covariance(J: np.ndarray) -> np.ndarray:
     for j in np.nonzero(norms == 0)[0]:
         cov[j, j] = np.inf
     return cov
+
+
+def column_space(J: np.ndarray, rel: float = 1e-9):
+    """The SVD of J with its columns scaled to unit norm (zero columns dropped): (keep, Js, U, s, Vt) with
+    only the singular triplets above ``rel`` times the largest kept. U is an orthonormal basis of what the
+    fitted parameters can absorb; removing it from a vector leaves the part no parameter can take."""
+    norms = np.sqrt(np.sum(J * J, axis=0))
+    keep = norms > 0
+    Js = J[:, keep] / norms[keep]
+    U, s, Vt = np.linalg.svd(Js, full_matrices=False)
+    rank = int(np.sum(s > s[0] * rel)) if s.size else 0
+    return keep, Js, U[:, :rank], s[:rank], Vt[:rank]

@@ -41,6 +41,8 @@ def channel_table(cal) -> list[dict]:
             if cs and cs.ljung_box_p is not None:
                 row[f"ljung_box_p_{tag}"] = cs.ljung_box_p
                 row[f"xcorr_{tag}"] = cs.xcorr_max
+            if cs and cs.structure is not None:
+                row[f"structure_{tag}"] = {"chi2": cs.structure, "dof": cs.structure_dof, "p_value": cs.structure_p}
             ho = stage.heldout if stage else None
             row[f"heldout_rmse_{tag}"] = (ho.rmse.get(ch.name) / f) if ho and ch.name in ho.rmse else None
         rows.append(row)
@@ -172,6 +174,18 @@ def markdown(cal, info: dict) -> str:
             if r["role"] == "output":
                 L.append(f"| {r['channel']} | {_g(r.get('ljung_box_p_before'), 2)} | {_g(r.get('ljung_box_p_after'), 2)} "
                          f"| {_g(r.get('xcorr_before'), 2)} | {_g(r.get('xcorr_after'), 2)} |")
+    if data.kind == "steady" and any(r.get("structure_before") or r.get("structure_after") for r in info["channels"]):
+        L += ["", "Residuals against the fitted value (outputs; the score test of a cubic in the channel's fitted "
+                  "value after the free parameters absorb what they can: a smooth misfit that chi^2/nu is too "
+                  "coarse to show):", "", "| channel | chi^2 (dof) before | p before | chi^2 (dof) after | p after |",
+              "|---|---|---|---|---|"]
+        for r in info["channels"]:
+            if r["role"] == "output":
+                cells = []
+                for tag in ("before", "after"):
+                    t = r.get(f"structure_{tag}")
+                    cells += [f"{_g(t['chi2'], 3)} ({t['dof']})", _g(t["p_value"], 2)] if t else ["-", "-"]
+                L.append(f"| {r['channel']} | " + " | ".join(cells) + " |")
     L += ["", "## Effects found", ""]
     if info["effects"]:
         L += ["| effect | where | parameter | value | SE | unit | in the final fit |", "|---|---|---|---|---|---|---|"]

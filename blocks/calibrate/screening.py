@@ -26,7 +26,7 @@ import numpy as np
 from scipy import stats as sps
 
 from blocks.calibrate.candidates.base import Place
-from blocks.calibrate.fit import FitResult, points_of
+from blocks.calibrate.fit import FitResult, column_space, points_of
 from blocks.calibrate.model import Model
 
 
@@ -111,14 +111,9 @@ def _basis(base: FitResult, model: Model):
     J = base.J
     if J.size == 0:
         return np.zeros((J.shape[0], 0)), None, []
-    norms = np.sqrt(np.sum(J * J, axis=0))
-    keep = norms > 0
-    Js = J[:, keep] / norms[keep]
-    U, s, Vt = np.linalg.svd(Js, full_matrices=False)
-    rank = int(np.sum(s > s[0] * 1e-9)) if s.size else 0
-    Q = U[:, :rank]
+    keep, Js, U, s, Vt = column_space(J)
     names_all = np.array(model.layout.names())[np.nonzero(base.active)[0]]
-    return Q, (Js, U[:, :rank], s[:rank], Vt[:rank]), list(names_all[keep])
+    return U, (Js, U, s, Vt), list(names_all[keep])
 
 
 def _absorbers(coef_basis, names, s) -> list[str]:

@@ -9,7 +9,8 @@ Accepted only if all hold, tried in BIC order until one passes:
     |phi - phi0| > 3 SE, phi inside the candidate's physically plausible range, dBIC < -10, and the
     held-out error with the candidate (refits without each fold) is lower than without it.
 Ambiguity: another candidate that also passes the first three tests and whose dBIC is within 10 of the
-best, or whose de-correlated sensitivity is nearly parallel to the best's (|cos| > 0.99): then the report
+best, or whose de-correlated sensitivity is nearly parallel to the best's or to such a candidate's
+(|cos| > 0.99; a place in series with an ambiguous one need not have been refitted): then the report
 says "ambiguous between A and B" and names the data that would separate them (the logged signal the two
 fitted alternatives disagree on most, and for steady data the prediction at 1.5 times the largest input).
 """
@@ -120,26 +121,40 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
                 continue
         rf.accepted = True
         accepted = rf
-    ambiguous, separation = [], []
     best = accepted or next((rf for rf in refits if rf.passes_fit_tests), None)
-    if best is not None:
-        for rf in refits:
-            if rf is best:
+    ambiguous, separation = ambiguity(best, refits, scores) if best is not None else ([], [])
+    return Decision(refits, accepted, ambiguous, separation, base_ho)
+
+
+def ambiguity(best: Refit, refits: list[Refit], scores: list[Score]) -> tuple[list[str], list[str]]:
+    """The places the data cannot tell from ``best`` and what would separate them: refitted alternatives
+    that pass the fit tests within 10 in BIC of it; screened places whose de-correlated sensitivity is
+    nearly parallel (|cos| > 0.99) to the best's, or to such an alternative's (not refitted, but to first
+    order as good as the alternative it parallels: the same loss at the other end of one line)."""
+    ambiguous, separation = [], []
+    alike = [best]
+    for rf in refits:
+        if rf is not best and rf.passes_fit_tests and rf.dbic - best.dbic < AMBIGUOUS_DBIC:
+            ambiguous.append(rf.score.place.key)
+            separation += separate(best, rf)
+            alike.append(rf)
+    for s in scores:
+        if s is best.score or s.status != "screened" or s.s_perp is None or s.place.key in ambiguous:
+            continue
+        for ref in alike:
+            if ref.score.s_perp is None or ref.score is s:
                 continue
-            if rf.passes_fit_tests and rf.dbic - best.dbic < AMBIGUOUS_DBIC:
-                ambiguous.append(rf.score.place.key)
-                separation += separate(best, rf)
-        for s in scores:
-            if s is best.score or s.status != "screened" or s.s_perp is None or best.score.s_perp is None:
-                continue
-            if s.place.key in ambiguous:
-                continue
-            cos = abs(float(s.s_perp @ best.score.s_perp))
+            cos = abs(float(s.s_perp @ ref.score.s_perp))
             if cos > PARALLEL:
                 ambiguous.append(s.place.key)
-                separation.append(f"{best.score.place.key} and {s.place.key} move the measured channels alike "
-                                  f"(|cos| = {cos:.4f} after removing what the free parameters absorb)")
-    return Decision(refits, accepted, ambiguous, separation, base_ho)
+                key, other = best.score.place.key, ref.score.place.key
+                separation.append(
+                    f"{key} and {s.place.key} move the measured channels alike (|cos| = {cos:.4f} after removing "
+                    f"what the free parameters absorb)" if ref is best else
+                    f"{s.place.key} moves the measured channels like {other} (|cos| = {cos:.4f} after removing "
+                    f"what the free parameters absorb), which is ambiguous with {key}")
+                break
+    return ambiguous, separation
 
 
 def _aligned(base: FitResult, base_model: Model, model: Model) -> FitResult:

@@ -14,6 +14,14 @@ parameter that should be constant, refitted group by group.
 - Cross-correlation of the residual with each measured input: rho(l) for |l| <= h samples, against the
   99 % bound 2.58/sqrt(n) of white residuals (the input is not prewhitened: a strongly coloured input
   widens the true bound; read it as a pointer, not a test).
+- Structure (steady outputs): the residuals of an output channel against its own fitted value y. A misfit
+  that the chi^2 of a few dozen points cannot show (it grows by 20 on nu = 40: p = 0.02) is often a smooth
+  function of y (a curved sensor, a characteristic of the wrong shape). The score test of adding the
+  Legendre polynomials P_1..P_3 of u = (2 y - y_max - y_min)/(y_max - y_min) on that channel's rows:
+      Z_perp = Z - U U^T Z     (U: orthonormal basis of the fit's Jacobian; what the parameters absorb)
+      T = |V^T r|^2           (V: orthonormal basis of Z_perp, columns absorbed to 99.9 % dropped)
+  is chi^2 with rank(V) degrees of freedom when the model is right (Ramsey's RESET test with the latent
+  inputs and every free parameter in the null model).
 - Drift (steady, ``drift:`` parameters): the parameter refitted on each group alone (the other parameters
   held at the global fit, the group's latent inputs free), with the homogeneity chi^2 =
   sum_g (theta_g - theta_w)^2 / se_g^2 on G - 1 degrees of freedom (theta_w the inverse-variance mean)
@@ -29,7 +37,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import stats as sps
 
-from blocks.calibrate.fit import FitResult, fit
+from blocks.calibrate.fit import FitResult, column_space, fit
 from blocks.calibrate.model import Model
 
 
@@ -47,6 +55,9 @@ class ChannelStats:
     xcorr_max: float | None = None
     xcorr_lag: float | None = None
     xcorr_bound: float | None = None
+    structure: float | None = None  # steady outputs: T of the residuals against the fitted value
+    structure_dof: int | None = None
+    structure_p: float | None = None
 
 
 @dataclass
@@ -68,7 +79,8 @@ class LackOfFit:
         block means, Ljung-Box per output channel, drift per parameter) is held at alpha / (number of
         tests) (Bonferroni), so that a model that is right is called wrong in at most alpha of the cases."""
         tests = 1 + (self.blocks_p is not None) + sum(c.ljung_box_p is not None for c in self.channels) \
-            + sum(d.get("p_value") is not None for d in self.drift.values())
+            + sum(d.get("p_value") is not None for d in self.drift.values()) \
+            + sum(c.structure_p is not None for c in self.channels)
         level = alpha / tests
         out = []
         if self.p_value < level:
@@ -79,6 +91,10 @@ class LackOfFit:
         for c in self.channels:
             if c.ljung_box_p is not None and c.ljung_box_p < level:
                 out.append(f"{c.name}: residuals not white (Ljung-Box p = {c.ljung_box_p:.2g})")
+        for c in self.channels:
+            if c.structure_p is not None and c.structure_p < level:
+                out.append(f"{c.name}: residuals follow its fitted value (a cubic in it takes chi^2 = "
+                           f"{c.structure:.3g} on {c.structure_dof}, p = {c.structure_p:.2g})")
         for name, d in self.drift.items():
             if d.get("p_value") is not None and d["p_value"] < level:
                 out.append(f"{name} drifts between groups (p = {d['p_value']:.2g})")
@@ -91,6 +107,7 @@ def lack_of_fit(model: Model, res: FitResult) -> LackOfFit:
     nu = res.nu
     chans = []
     r = res.r
+    absorbable = column_space(res.J)[2] if res.J.size else np.zeros((n_total, 0))
     for ci, ch in enumerate(model.channels):
         sel = rows & (model.row_channel == ci)
         n_c = int(sel.sum())
@@ -111,11 +128,39 @@ def lack_of_fit(model: Model, res: FitResult) -> LackOfFit:
                 if abs(rho) > abs(best):
                     best, lag = rho, k * float(np.median(np.diff(model.data.t)))
             cs.xcorr_max, cs.xcorr_lag, cs.xcorr_bound = best, lag, bound
+        if model.data.kind == "steady" and ch.role == "output":
+            cs.structure, cs.structure_dof, cs.structure_p = structure(model, res, ci, absorbable)
         chans.append(cs)
     lof = LackOfFit(res.chi2, n_total, res.p, nu, res.reduced, float(sps.chi2.sf(res.chi2, nu)), chans)
     if model.data.kind == "time":
         lof.blocks_chi2, lof.blocks_dof, lof.blocks_p = block_means(model, res)
     return lof
+
+
+def structure(model: Model, res: FitResult, channel: int, absorbable: np.ndarray,
+              degree: int = 3) -> tuple[float | None, int | None, float | None]:
+    """The score test of the residuals of output ``channel`` against its fitted value (module docstring);
+    ``absorbable`` is an orthonormal basis of the fit's Jacobian columns (rows: the fit's used rows).
+    (None, None, None) when the channel has too few points or its fitted values do not vary."""
+    used = np.nonzero(res.rows)[0]
+    mine = model.row_channel[used] == channel
+    if int(mine.sum()) < degree + 3:
+        return None, None, None
+    y = model.measured[used][mine] + res.r[used][mine] * model.row_sigma[used][mine]
+    lo, hi = float(np.min(y)), float(np.max(y))
+    if not hi - lo > 1e-6 * float(np.median(model.row_sigma[used][mine])):  # the fitted value does not vary
+        return None, None, None
+    u = (2.0 * y - hi - lo) / (hi - lo)
+    Z = np.zeros((used.size, degree))
+    Z[mine] = np.polynomial.legendre.legvander(u, degree)[:, 1:]
+    Z /= np.sqrt(np.sum(Z * Z, axis=0))
+    Z -= absorbable @ (absorbable.T @ Z)
+    V, sv, _ = np.linalg.svd(Z, full_matrices=False)
+    V = V[:, sv > np.sqrt(1e-3)]  # a column the parameters absorb to 99.9 % tests nothing
+    if V.shape[1] == 0:
+        return None, None, None
+    T = float(np.sum((V.T @ res.r[used]) ** 2))
+    return T, int(V.shape[1]), float(sps.chi2.sf(T, V.shape[1]))
 
 
 def block_means(model: Model, res: FitResult) -> tuple[float, int, float]:

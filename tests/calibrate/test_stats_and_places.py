@@ -130,3 +130,64 @@ def test_a_final_fit_that_did_not_converge_is_in_the_verdict():
     final.fit.converged = True
     lines, _ = verdict(SimpleNamespace(rounds=[], final=final, accepted=[]))
     assert lines == ["no effect found: the declared model fits to the noise"]
+
+
+def _line_fit(x, y, sigma):
+    """A straight line fitted to y(x) by least squares, as the structure test sees a fit: normalised
+    residuals r = (model - measured)/sigma, the Jacobian d r / d (a, b), every row one output channel."""
+    from types import SimpleNamespace
+
+    A = np.column_stack([np.ones_like(x), x])
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    r = (A @ coef - y) / sigma
+    model = SimpleNamespace(row_channel=np.zeros(x.size, dtype=int), measured=y, row_sigma=np.full(x.size, sigma))
+    res = SimpleNamespace(rows=np.ones(x.size, dtype=bool), r=r, J=A / sigma)
+    return model, res
+
+
+def test_structure_test_holds_its_level_and_finds_a_curve():
+    """Residuals of a straight-line fit against the fitted value: with straight-line data the statistic is
+    chi^2 on 2 degrees of freedom (P_1 of the fitted value is the line itself, absorbed), so it rejects at
+    5 % in 5 % of 4000 draws (within 4 binomial SEs) with mean 2; a quadratic of 40 chi^2 is found."""
+    from blocks.calibrate.fit import column_space
+    from blocks.calibrate.stats import structure
+
+    rng = np.random.default_rng(3)
+    x = np.linspace(1.0, 3.0, 21)
+    sigma = 0.3
+    stats, rejected = [], 0
+    for _ in range(4000):
+        model, res = _line_fit(x, 2.0 + 0.5 * x + sigma * rng.normal(size=x.size), sigma)
+        T, dof, p = structure(model, res, 0, column_space(res.J)[2])
+        assert dof == 2
+        stats.append(T)
+        rejected += p < 0.05
+    assert abs(np.mean(stats) - 2.0) < 4 * np.sqrt(2 * 2 / 4000)
+    assert abs(rejected / 4000 - 0.05) < 4 * np.sqrt(0.05 * 0.95 / 4000)
+    curve = (x - 2.0) ** 2
+    c = np.sqrt(40.0 / np.sum((curve - np.polyval(np.polyfit(x, curve, 1), x)) ** 2 / sigma ** 2))
+    model, res = _line_fit(x, 2.0 + 0.5 * x + c * curve + sigma * rng.normal(size=x.size), sigma)
+    T, dof, p = structure(model, res, 0, column_space(res.J)[2])
+    assert dof == 2 and p < 1e-4
+
+
+def test_structure_test_needs_points_that_vary():
+    from blocks.calibrate.fit import column_space
+    from blocks.calibrate.stats import structure
+
+    model, res = _line_fit(np.linspace(0.0, 1.0, 5), np.zeros(5), 1.0)  # 5 points: too few for a cubic
+    assert structure(model, res, 0, column_space(res.J)[2]) == (None, None, None)
+    model, res = _line_fit(np.linspace(0.0, 1.0, 9), np.full(9, 4.0), 1.0)  # the fitted value is constant
+    assert structure(model, res, 0, column_space(res.J)[2]) == (None, None, None)
+
+
+def test_a_residual_that_follows_its_fitted_value_is_a_reason_in_the_verdict():
+    from blocks.calibrate.stats import ChannelStats, LackOfFit
+
+    curved = ChannelStats("p3", "output", 21, 1e4, 3e4, 50.0, 1.2, structure=22.7, structure_dof=2,
+                          structure_p=1.2e-5)
+    lof = LackOfFit(50.0, 84, 43, 41, 1.22, 0.16, [curved])
+    assert lof.significant() == ["p3: residuals follow its fitted value (a cubic in it takes chi^2 = 22.7 on 2, "
+                                 "p = 1.2e-05)"]
+    curved.structure_p = 0.01  # one of two tests: held at 0.005
+    assert lof.significant() == []
