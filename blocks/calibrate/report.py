@@ -94,6 +94,7 @@ def refit_rows(rnd) -> list[dict]:
     return [{"key": r.score.place.key, "value": r.phi, "se": r.se, "z": r.z, "unit": r.score.place.unit,
              "dchi2": r.dchi2, "dbic": r.dbic, "plausible": r.plausible,
              "heldout_error": r.heldout.error if r.heldout else None, "accepted": r.accepted, "reasons": r.reasons,
+             "converged": r.fit.converged, "evaluations": r.fit.nfev,
              "meaning": r.score.place.meaning}
             for r in rnd.decision.refits]
 
@@ -240,7 +241,9 @@ def markdown(cal, info: dict) -> str:
               "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | accepted | why not |",
               "|---|---|---|---|---|---|---|---|---|"]
         for f in r["refits"]:
-            L.append(f"| {f['key']} | {_g(f['value'])} | {_g(f['se'], 2)} | {_g(f['z'], 3)} | {_g(f['dbic'], 4)} | "
+            dbic = _g(f["dbic"], 4) + ("" if f["converged"] else " (refit stopped at its evaluation limit: an upper "
+                                                                 "bound)")
+            L.append(f"| {f['key']} | {_g(f['value'])} | {_g(f['se'], 2)} | {_g(f['z'], 3)} | {dbic} | "
                      f"{f['plausible']} | {_g(f['heldout_error'], 3)} | {f['accepted']} | {'; '.join(f['reasons'])} |")
         if r["ambiguous"]:
             L += ["", "Ambiguous: " + ", ".join(r["ambiguous"])] + [f"- {s}" for s in r["separation"]]

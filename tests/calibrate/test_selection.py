@@ -1,5 +1,6 @@
-"""Which places the report calls ambiguous with the accepted one (blocks.calibrate.selection.ambiguity), on
-hand-made scores: the unit vectors are the de-correlated sensitivities s_perp of the screening."""
+"""Deciding between refitted candidates (blocks.calibrate.selection): which places the report calls ambiguous
+with the accepted one, on hand-made scores (the unit vectors are the de-correlated sensitivities s_perp of the
+screening); a refit cut short at its evaluation limit."""
 
 from __future__ import annotations
 
@@ -51,3 +52,32 @@ def test_an_alternative_over_10_in_bic_behind_brings_no_look_alikes(monkeypatch)
     assert ambiguous == ["turbulent@meter.a"]
     assert separation == ["turbulent@meter.b and turbulent@meter.a move the measured channels alike (|cos| = "
                           "0.9999 after removing what the free parameters absorb)"]
+
+
+def test_a_refit_cut_short_is_continued_once_from_where_it_stopped(monkeypatch):
+    """The first attempt stops at its evaluation limit: the second starts at its end, the evaluations add
+    up, and the reported chi^2 drop is the second's. A refit that converges is not repeated."""
+    from blocks.calibrate.fit import FitResult
+
+    calls = []
+
+    def fake_fit(model, x0, active, rows, max_nfev):
+        calls.append(np.array(x0))
+        done = len(calls) >= model.attempts
+        x = np.array(x0) + 1.0
+        return FitResult(x, active, rows, np.zeros(3), np.zeros((3, 2)), 10.0 - len(calls), 3, 2, np.eye(2),
+                         np.array([0.1, 0.1]), max_nfev - 5 * done, "", 0, [], converged=done)
+
+    monkeypatch.setattr(selection, "fit", fake_fit)
+    place = SimpleNamespace(key="k", plausible=(-10.0, 10.0))
+    score = Score(place, "screened", phi=0.5)
+    base = SimpleNamespace(rows=np.ones(3, dtype=bool), active=np.array([True, False]))
+    for attempts, evaluations in ((2, 75), (1, 35)):
+        calls.clear()
+        model = SimpleNamespace(attempts=attempts, residuals=lambda x, points: np.full(3, 2.0),
+                                bounds=lambda: (np.full(2, -10.0), np.full(2, 10.0)), data=SimpleNamespace(kind="time"))
+        rf = selection.refit(model, np.zeros(2), 1, base, score)
+        assert len(calls) == attempts and rf.fit.nfev == evaluations and rf.fit.converged
+        assert np.array_equal(calls[0], [0.0, 0.5])
+        if attempts == 2:
+            assert np.array_equal(calls[1], [1.0, 1.5]) and rf.dchi2 == (10.0 - 2) - 12.0
