@@ -173,10 +173,13 @@ class Circuit:
             self.compile()
         x_guess = np.array(vec.x0 if guess is None else guess, dtype=float)
         t_eq = self.settings.t_end if t is None else float(t)
-        status, x, y, J, iterations = self.module.equilibrium(
+        status, x, y, J, iterations, sinks, growth_sinks = self.module.equilibrium(
             x_guess, vec.theta, t_eq, self.nominal, float(tol), int(max_iter), len(self.outputs))
-        growth = float(np.max(np.linalg.eigvals(J).real)) if status == 0 and len(x) else float("nan")
-        return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations))
+        rest = ~sinks  # a state that acts on nothing counts by its own rate's slope (blocks.solve.equilibrium)
+        growth = max(float(np.max(np.linalg.eigvals(J[np.ix_(rest, rest)]).real)) if rest.any() else -np.inf,
+                     float(growth_sinks)) if status == 0 else float("nan")
+        return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations),
+                           np.array(sinks, dtype=bool))
 
     def _cavitation(self, outcome, vec: Vectors) -> list[str]:
         p_vap = vec.values["fluid.vapour_pressure"]
@@ -256,12 +259,13 @@ class Circuit:
 class Equilibrium:
     """An equilibrium of the circuit (:meth:`Circuit.equilibrium`); status 0 when Newton converged."""
 
-    status: int  # 0 converged, 1 singular Jacobian, 2 no convergence, 3 non-finite values
+    status: int  # 0 converged, 1 singular, 2 no convergence, 3 non-finite, 4 a state acting on nothing not at rest
     states: np.ndarray
     values: np.ndarray  # the logged signals at the equilibrium, SI (NaN unless converged)
     names: list[str]
-    growth: float  # the largest real part of the Jacobian's eigenvalues, 1/s (< 0: stable)
+    growth: float  # the largest real part of the Jacobian's eigenvalues (neutral states left out), 1/s: < 0 stable
     iterations: int
+    sinks: np.ndarray  # bool per state: acts on no other state, solved after the rest (blocks.solve.equilibrium)
 
     @property
     def stable(self) -> bool:

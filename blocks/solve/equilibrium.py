@@ -19,13 +19,27 @@ a circuit's rates range from a pressure in a millilitre (1e12 Pa/s per l/min) to
 merit dominated by the stiffest rows rejects good steps (measured on the calibration netlists: 9 failures
 in 369 solves with the test, every one of the 369 with an Armijo test on ||f_i/s_i||). It has converged when
 a full Newton step is below ``tol`` in every state, |dx| <= tol; that last step is taken.
+
+States that act on nothing. A state whose column of J is zero off the diagonal (below 1e-10 of the
+largest rate, in the scaled norm |J_ij| s_j / s_i; judged at the guess) moves no other state: a friction
+state whose force coefficient is zero, a filter that only feeds a logged signal. The others do not depend on
+it, so they are solved with it held where the guess has it (its row replaced by dx_j = 0); then each such
+state is solved on its own row, f_j(x_j) = 0 with the rest held, by a scalar Newton iteration (steps
+accepted while |f_j| falls). One whose own rate does not depend on it (d_j = df_j/dx_j = 0: the Dahl state
+of a spool at rest, which rests anywhere) is "neutral": it stays where it is if it is at rest there,
+|f_j| / s_j <= tol * rho (rho = the largest rate, 1/s), and if it is not (a volume filled with no way out)
+there is no equilibrium. Stability: the eigenvalues of the rest, and d_j of the states that act on nothing
+unless it is below 1e-10 rho (neutral).
 t is held fixed: an equilibrium of a circuit whose inputs are constant from t on.
 
-Returns (status, x, y, J, iterations):
+Returns (status, x, y, J, iterations, sinks, growth_sinks):
     0  converged: x the equilibrium, y the logged signals there, J the Jacobian at x
     1  singular Jacobian (no usable pivot): no isolated equilibrium near the guess
     2  no convergence within ``max_iter`` iterations, or no step lowers the merit
     3  a non-finite value in f or x
+    4  converged in the other states, but a state that acts on nothing has no rest point
+sinks marks the states that act on nothing; growth_sinks is the largest d_j among them that counts for
+stability (-inf if none does).
 Whether the equilibrium is stable (every eigenvalue of J with a negative real part), and whether it is the
 one a run would reach, the caller decides: this module only finds a root.
 """
@@ -69,6 +83,67 @@ def _dense_jacobian(rhs, t, x, f0, theta, scale, J, xp, fp):
 
 
 @njit(cache=True)
+def _sink_states(J, scale, sink):
+    """Mark the states whose scaled column of J is below 1e-10 of the largest rate off the diagonal (they
+    act on no other state); return that largest rate rho (1/s)."""
+    n = J.shape[0]
+    rho = 0.0
+    for i in range(n):
+        for j in range(n):
+            rho = max(rho, abs(J[i, j]) * scale[j] / scale[i])
+    for j in range(n):
+        c = 0.0
+        for i in range(n):
+            if i != j:
+                c = max(c, abs(J[i, j]) * scale[j] / scale[i])
+        sink[j] = c <= 1e-10 * rho
+    return rho
+
+
+@njit(cache=True)
+def _own_rate_slope(rhs, t, x, theta, scale, j, fj, xp, fp):
+    """d f_j / d x_j by a forward difference (the step of _dense_jacobian)."""
+    h = np.sqrt(np.finfo(np.float64).eps) * max(abs(x[j]), scale[j])
+    for i in range(x.shape[0]):
+        xp[i] = x[i]
+    xp[j] = x[j] + h
+    _ros_f(rhs, t, xp, theta, fp)
+    return (fp[j] - fj) / (xp[j] - x[j])
+
+
+@njit(cache=True)
+def _solve_sink(rhs, t, x, theta, scale, j, f, rho, tol, max_iter, xp, fp):
+    """The scalar Newton iteration on f_j(x_j) = 0, the other states held (module docstring).
+    Returns (status, d_j at the end): 0 solved (or neutral and at rest), 2 not within max_iter steps,
+    4 no rest point (neutral but moving, or no step lowers |f_j|)."""
+    d = 0.0
+    for _ in range(max_iter):
+        d = _own_rate_slope(rhs, t, x, theta, scale, j, f[j], xp, fp)
+        if not abs(d) > 1e-10 * rho:  # neutral: rests wherever it is, if it is at rest here
+            return (0 if abs(f[j]) / scale[j] <= tol * rho else 4), d
+        step = -f[j] / d
+        if abs(step) / scale[j] <= tol:
+            x[j] += step
+            _ros_f(rhs, t, x, theta, f)
+            return 0, d
+        a = 1.0
+        while a >= 1.0 / 1024.0:
+            for i in range(x.shape[0]):
+                xp[i] = x[i]
+            xp[j] = x[j] + a * step
+            _ros_f(rhs, t, xp, theta, fp)
+            if np.isfinite(fp[j]) and abs(fp[j]) < abs(f[j]):
+                break
+            a *= 0.5
+        if a < 1.0 / 1024.0:
+            return 4, d
+        x[j] = xp[j]
+        for i in range(x.shape[0]):
+            f[i] = fp[i]
+    return 2, d
+
+
+@njit(cache=True)
 def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
     """Equilibrium of x' = rhs(t, x, theta) near x_guess; see the module docstring."""
     n = x_guess.shape[0]
@@ -84,25 +159,31 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
     xp = np.empty(n)
     fp = np.empty(n)
     y = np.full(n_obs, np.nan)
+    sink = np.zeros(n, dtype=np.bool_)
+    growth_sinks = -np.inf
+    rho = 0.0
     _ros_f(rhs, t, x, theta, f)
     if not (_all_finite(x) and _all_finite(f)):
-        return 3, x, y, J, 0
+        return 3, x, y, J, 0, sink, growth_sinks
     status = 2
     iterations = 0
     for it in range(max_iter):
         iterations = it + 1
         _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
         if not _all_finite(J.ravel()):
-            return 3, x, y, J, iterations
+            return 3, x, y, J, iterations, sink, growth_sinks
+        if it == 0:
+            rho = _sink_states(J, scale, sink)
         for i in range(n):
             for j in range(n):
-                A[i, j] = J[i, j]
-            dx[i] = -f[i]
+                A[i, j] = 0.0 if sink[i] or sink[j] else J[i, j]
+            A[i, i] = 1.0 if sink[i] else A[i, i]
+            dx[i] = 0.0 if sink[i] else -f[i]
         if _ros_lu_factor(A, piv) >= 0:
-            return 1, x, y, J, iterations
+            return 1, x, y, J, iterations, sink, growth_sinks
         _ros_lu_solve(A, piv, dx)
         if not _all_finite(dx):
-            return 3, x, y, J, iterations
+            return 3, x, y, J, iterations, sink, growth_sinks
         full = _scaled_max(dx, scale)
         if full <= tol:  # converged: take the last (tiny) step
             for i in range(n):
@@ -117,7 +198,7 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
             _ros_f(rhs, t, xn, theta, fn)
             if _all_finite(fn):
                 for i in range(n):
-                    dxb[i] = -fn[i]
+                    dxb[i] = 0.0 if sink[i] else -fn[i]
                 _ros_lu_solve(A, piv, dxb)  # the simplified Newton step at xn (same factors)
                 if _all_finite(dxb) and _scaled_max(dxb, scale) <= (1.0 - 0.25 * a) * full:
                     accepted = True
@@ -130,6 +211,13 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
             f[i] = fn[i]
     if status == 0:
         _ros_f(rhs, t, x, theta, f)
+        for j in range(n):
+            if sink[j]:
+                solved, d = _solve_sink(rhs, t, x, theta, scale, j, f, rho, tol, max_iter, xp, fp)
+                if solved != 0:
+                    status = solved
+                elif abs(d) > 1e-10 * rho:
+                    growth_sinks = max(growth_sinks, d)
         _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
         _ros_f(observe, t, x, theta, y)
-    return status, x, y, J, iterations
+    return status, x, y, J, iterations, sink, growth_sinks

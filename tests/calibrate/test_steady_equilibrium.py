@@ -73,15 +73,37 @@ def test_a_run_far_from_its_equilibrium_is_lengthened_instead(tmp_path):
     assert model.reference == {} and model.unsettled == {0}
 
 
-def relief_model(method: str) -> Model:
+def relief_model(method: str, netlist: Path | None = None) -> Model:
     exp = load_experiment(ROOT / "netlists" / "experiments" / "relief_rig_steady.yaml")
     exp.spec.steady.method = method
-    return Model(Circuit.from_file(exp.netlist), exp, load_data(exp), exp.free)
+    return Model(Circuit.from_file(netlist or exp.netlist), exp, load_data(exp), exp.free)
 
 
-def test_a_friction_state_that_rests_anywhere_keeps_the_runs():
-    points = [0, 10, 20]
+def test_a_friction_state_that_acts_on_nothing_does_not_stop_the_equilibria():
+    """The declared relief valve has no spool friction (p_fric = 0): its Dahl state z moves no other state
+    and, at rest, rests anywhere, which made the Jacobian singular. It is held and marked; every point gets
+    its equilibrium, within 1e-4 sigma of the settling run's end."""
     eq, settle = relief_model("equilibrium"), relief_model("settle")
+    a = eq.predictions(eq.initial())
+    b = settle.predictions(settle.initial())
+    assert sorted(eq.reference) == list(range(eq.data.n)) and eq.fallbacks == 0
+    assert np.max(np.abs(a - b) / eq.row_sigma) < 1e-4
+    z = eq.circuit.structure.block_states["relief"]["z"].index
+    over = dict(eq.exp.overrides)
+    over.update(eq.exp.groups.get(eq.data.labels[0], {}))
+    solved = eq.circuit.equilibrium(over, guess=eq.reference[0])
+    assert solved.stable and list(np.nonzero(solved.sinks)[0]) == [z]
+
+
+def test_a_friction_state_that_rests_anywhere_keeps_the_runs(tmp_path):
+    """With spool friction (p_fric = 2 bar) the spool sticks anywhere in a band: a family of equilibria, no
+    isolated one. Every point keeps its settling run, and the values are the settle method's."""
+    netlist = ROOT / "netlists" / "experiments" / "circuits" / "relief_rig.yaml"
+    doc = yaml.safe_load(netlist.read_text())
+    doc["components"]["relief"]["params"]["p_fric"] = "2 bar"
+    (tmp_path / "relief_friction.yaml").write_text(yaml.safe_dump(doc))
+    points = [0, 10, 20]
+    eq, settle = (relief_model(m, tmp_path / "relief_friction.yaml") for m in ("equilibrium", "settle"))
     a = eq.predictions(eq.initial(), points)
     b = settle.predictions(settle.initial(), points)
     assert eq.reference == {} and eq.equilibria >= len(points)

@@ -78,3 +78,44 @@ def test_a_volume_with_no_way_out_has_no_equilibrium(tmp_path):
     # the Jacobian is singular; its finite-difference copy may keep a pivot of rounding size (status 2: the
     # huge step it gives passes no line search) or lose it (status 1): either way no equilibrium
     assert eq.status in (1, 2) and not eq.stable and np.isnan(eq.values).all()
+
+
+def test_a_filter_that_only_feeds_a_logged_signal_is_solved_on_its_own_row(tmp_path):
+    """A first-order lag 1/(tau s + 1) on the pressure of net A feeds only a logged output: its state acts
+    on no other state. It is found as such and solved after the pressures: y = pA exactly, and its own
+    eigenvalue -1/tau counts for stability."""
+    c = series_circuit(tmp_path)
+    netlist = yaml.safe_load((tmp_path / "series.yaml").read_text())
+    netlist["components"]["sensor"] = {"type": "pressure_sensor"}
+    netlist["components"]["lag"] = {"type": "transfer_function_strict", "params": {"num": [1.0], "den": [0.5, 1.0]}}
+    netlist["nets"]["A"]["ports"].append("sensor.port")
+    netlist["nets"]["s"] = ["sensor.p", "lag.u"]
+    netlist["outputs"]["lagged"] = {"of": "lag.y", "unit": "bar"}
+    (tmp_path / "lag.yaml").write_text(yaml.safe_dump(netlist))
+    c = Circuit.from_file(tmp_path / "lag.yaml")
+    eq = c.equilibrium()
+    p_b = Q / G2
+    assert eq.status == 0 and eq["lagged"] == pytest.approx(p_b + Q / G1, rel=1e-9)
+    lag = c.structure.block_states["lag"]["x"].index
+    assert list(np.nonzero(eq.sinks)[0]) == [lag]
+    slow = max(np.linalg.eigvals(np.array([[-BETA * G1 / V1, BETA * G1 / V1],
+                                           [BETA * G1 / V2, -BETA * (G1 + G2) / V2]])).real)
+    assert eq.stable and eq.growth == pytest.approx(max(slow, -1.0 / 0.5), rel=1e-4)
+
+
+@pytest.mark.parametrize("rate, status", [(0.0, 0), (1.0, 4)])
+def test_an_integrator_of_nothing_rests_anywhere_and_of_something_nowhere(tmp_path, rate, status):
+    """An integrator of a constant acts on nothing and its own rate does not depend on it: with input 0 it
+    rests wherever it starts (held at the guess, status 0); with input 1 it has no rest point (status 4)."""
+    c = series_circuit(tmp_path)
+    netlist = yaml.safe_load((tmp_path / "series.yaml").read_text())
+    netlist["components"]["u"] = {"type": "constant", "params": {"value": rate}}
+    netlist["components"]["int"] = {"type": "integrator", "initial": {"x": 7.0}}
+    netlist["nets"]["s"] = ["u.y", "int.u"]
+    netlist["outputs"]["i"] = {"of": "int.y"}
+    (tmp_path / "int.yaml").write_text(yaml.safe_dump(netlist))
+    c = Circuit.from_file(tmp_path / "int.yaml")
+    eq = c.equilibrium()
+    assert eq.status == status
+    if status == 0:
+        assert eq["i"] == 7.0 and eq["pB"] == pytest.approx(Q / G2, rel=1e-9) and eq.stable
