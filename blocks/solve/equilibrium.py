@@ -20,16 +20,18 @@ merit dominated by the stiffest rows rejects good steps (measured on the calibra
 in 369 solves with the test, every one of the 369 with an Armijo test on ||f_i/s_i||). It has converged when
 a full Newton step is below ``tol`` in every state, |dx| <= tol; that last step is taken.
 
-States that act on nothing. A state whose column of J is zero off the diagonal (below 1e-10 of the
-largest rate, in the scaled norm |J_ij| s_j / s_i; judged at the guess) moves no other state: a friction
-state whose force coefficient is zero, a filter that only feeds a logged signal. The others do not depend on
-it, so they are solved with it held where the guess has it (its row replaced by dx_j = 0); then each such
-state is solved on its own row, f_j(x_j) = 0 with the rest held, by a scalar Newton iteration (steps
-accepted while |f_j| falls). One whose own rate does not depend on it (d_j = df_j/dx_j = 0: the Dahl state
-of a spool at rest, which rests anywhere) is "neutral": it stays where it is if it is at rest there,
-|f_j| / s_j <= tol * rho (rho = the largest rate, 1/s), and if it is not (a volume filled with no way out)
-there is no equilibrium. Stability: the eigenvalues of the rest, and d_j of the states that act on nothing
-unless it is below 1e-10 rho (neutral).
+States that act on nothing. A state whose column of J is exactly zero off the diagonal (judged at the
+guess) moves no other state: a friction state whose force coefficient is zero, a filter that only feeds a
+logged signal. (Exactly zero: a threshold relative to the fastest rate would also catch real couplings, since
+a line's flow state behind a tiny inertance makes rates of 1e12/s.) The others do not depend on it, so they
+are solved with it held where the guess has it (its row replaced by dx_j = 0); then each such state is
+solved on its own row, f_j(x_j) = 0 with the rest held, by a scalar Newton iteration (steps accepted while
+|f_j| falls). With rho_j = max_k |J_jk| s_k / s_j (k != j; 1/s) how fast its rate follows the others: one
+whose own slope d_j = df_j/dx_j is below 1e-10 rho_j (the Dahl state of a spool at rest, which rests
+anywhere; an integrator) is "neutral": it stays where it is if its rate is what the others' tolerance
+leaves, |f_j| / s_j <= tol * rho_j, and otherwise there is no equilibrium (an integrator of a constant).
+Stability: the eigenvalues of the rest, and the slopes d_j of the states that act on nothing and are not
+neutral.
 t is held fixed: an equilibrium of a circuit whose inputs are constant from t on.
 
 Returns (status, x, y, J, iterations, sinks, growth_sinks):
@@ -83,20 +85,24 @@ def _dense_jacobian(rhs, t, x, f0, theta, scale, J, xp, fp):
 
 
 @njit(cache=True)
-def _sink_states(J, scale, sink):
-    """Mark the states whose scaled column of J is below 1e-10 of the largest rate off the diagonal (they
-    act on no other state); return that largest rate rho (1/s)."""
+def _sink_states(J, sink):
+    """Mark the states whose column of J is exactly zero off the diagonal (they act on no other state)."""
     n = J.shape[0]
-    rho = 0.0
-    for i in range(n):
-        for j in range(n):
-            rho = max(rho, abs(J[i, j]) * scale[j] / scale[i])
     for j in range(n):
-        c = 0.0
+        sink[j] = True
         for i in range(n):
-            if i != j:
-                c = max(c, abs(J[i, j]) * scale[j] / scale[i])
-        sink[j] = c <= 1e-10 * rho
+            if i != j and J[i, j] != 0.0:
+                sink[j] = False
+                break
+
+
+@njit(cache=True)
+def _row_rate(J, scale, j):
+    """rho_j = max_k |J_jk| s_k / s_j over k != j: how fast state j's rate follows the others (1/s)."""
+    rho = 0.0
+    for k in range(J.shape[0]):
+        if k != j:
+            rho = max(rho, abs(J[j, k]) * scale[k] / scale[j])
     return rho
 
 
@@ -113,7 +119,8 @@ def _own_rate_slope(rhs, t, x, theta, scale, j, fj, xp, fp):
 
 @njit(cache=True)
 def _solve_sink(rhs, t, x, theta, scale, j, f, rho, tol, max_iter, xp, fp):
-    """The scalar Newton iteration on f_j(x_j) = 0, the other states held (module docstring).
+    """The scalar Newton iteration on f_j(x_j) = 0, the other states held, rho the row's rate rho_j
+    (module docstring).
     Returns (status, d_j at the end): 0 solved (or neutral and at rest), 2 not within max_iter steps,
     4 no rest point (neutral but moving, or no step lowers |f_j|)."""
     d = 0.0
@@ -161,7 +168,6 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
     y = np.full(n_obs, np.nan)
     sink = np.zeros(n, dtype=np.bool_)
     growth_sinks = -np.inf
-    rho = 0.0
     _ros_f(rhs, t, x, theta, f)
     if not (_all_finite(x) and _all_finite(f)):
         return 3, x, y, J, 0, sink, growth_sinks
@@ -173,7 +179,7 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
         if not _all_finite(J.ravel()):
             return 3, x, y, J, iterations, sink, growth_sinks
         if it == 0:
-            rho = _sink_states(J, scale, sink)
+            _sink_states(J, sink)
         for i in range(n):
             for j in range(n):
                 A[i, j] = 0.0 if sink[i] or sink[j] else J[i, j]
@@ -211,8 +217,10 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
             f[i] = fn[i]
     if status == 0:
         _ros_f(rhs, t, x, theta, f)
+        _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
         for j in range(n):
             if sink[j]:
+                rho = _row_rate(J, scale, j)
                 solved, d = _solve_sink(rhs, t, x, theta, scale, j, f, rho, tol, max_iter, xp, fp)
                 if solved != 0:
                     status = solved
