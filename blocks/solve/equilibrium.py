@@ -31,7 +31,8 @@ whose own slope d_j = df_j/dx_j is below 1e-10 rho_j (the Dahl state of a spool 
 anywhere; an integrator) is "neutral": it stays where it is if its rate is what the others' tolerance
 leaves, |f_j| / s_j <= tol * rho_j, and otherwise there is no equilibrium (an integrator of a constant).
 Stability: the eigenvalues of the rest, and the slopes d_j of the states that act on nothing and are not
-neutral.
+neutral. Last, a Newton step of the rest at the result must be below tol (else status 2): a state that acts
+on nothing at the guess but on others where it came to rest would show here.
 t is held fixed: an equilibrium of a circuit whose inputs are constant from t on.
 
 Returns (status, x, y, J, iterations, sinks, growth_sinks):
@@ -151,6 +152,22 @@ def _solve_sink(rhs, t, x, theta, scale, j, f, rho, tol, max_iter, xp, fp):
 
 
 @njit(cache=True)
+def _newton_step(J, f, sink, A, piv, dx):
+    """dx = -J^-1 f with the rows and columns of the states that act on nothing replaced by dx_j = 0; A and
+    piv keep the factors. False if J (so reduced) is singular."""
+    n = J.shape[0]
+    for i in range(n):
+        for j in range(n):
+            A[i, j] = 0.0 if sink[i] or sink[j] else J[i, j]
+        A[i, i] = 1.0 if sink[i] else A[i, i]
+        dx[i] = 0.0 if sink[i] else -f[i]
+    if _ros_lu_factor(A, piv) >= 0:
+        return False
+    _ros_lu_solve(A, piv, dx)
+    return True
+
+
+@njit(cache=True)
 def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
     """Equilibrium of x' = rhs(t, x, theta) near x_guess; see the module docstring."""
     n = x_guess.shape[0]
@@ -180,14 +197,8 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
             return 3, x, y, J, iterations, sink, growth_sinks
         if it == 0:
             _sink_states(J, sink)
-        for i in range(n):
-            for j in range(n):
-                A[i, j] = 0.0 if sink[i] or sink[j] else J[i, j]
-            A[i, i] = 1.0 if sink[i] else A[i, i]
-            dx[i] = 0.0 if sink[i] else -f[i]
-        if _ros_lu_factor(A, piv) >= 0:
+        if not _newton_step(J, f, sink, A, piv, dx):
             return 1, x, y, J, iterations, sink, growth_sinks
-        _ros_lu_solve(A, piv, dx)
         if not _all_finite(dx):
             return 3, x, y, J, iterations, sink, growth_sinks
         full = _scaled_max(dx, scale)
@@ -227,5 +238,8 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
                 elif abs(d) > 1e-10 * rho:
                     growth_sinks = max(growth_sinks, d)
         _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
+        if status == 0 and np.any(sink):  # a state solved on its own row must not have moved the rest
+            if not (_newton_step(J, f, sink, A, piv, dx) and _scaled_max(dx, scale) <= tol):
+                status = 2
         _ros_f(observe, t, x, theta, y)
     return status, x, y, J, iterations, sink, growth_sinks
