@@ -241,8 +241,9 @@ class Setup:
     def steady_truth(self, circuit, k: int, inputs: dict) -> dict:
         """The truth's outputs at steady point k: a settling run of 8 x the netlist's t_end (the relief rig:
         a planted leakage fills the inlet volume with a time constant of about 0.1 s at low flow, still
-        moving at 0.15 s), then, where the circuit has an isolated stable equilibrium near the run's end
-        (the MCV rig; not the relief rig, whose Dahl friction state rests anywhere), that equilibrium."""
+        moving at 0.15 s), then, where the circuit has an isolated stable equilibrium near the run's end,
+        that equilibrium (both rigs; not the relief rig with a planted spool friction, whose spool sticks
+        anywhere in a band)."""
         over = dict(self.truth_parameters)
         over.update(self.exp.groups.get(self.labels[k], {}))
         if self.kind == "steady":
@@ -479,18 +480,18 @@ def table(results: list[dict]) -> str:
              "the parameters costs, not a wrong model. The section at the end repeats the steady cases with 60 "
              "points instead of 21, where both criteria come within reach.",
              "",
-             "Versions. The rows ran over three sessions. `steady_leakage` (both tables) ran with the final code: "
-             "steady truth read at 8 x 0.15 s, settling runs lengthened where a point has not settled. The other "
-             "rows of the first table ran before that: truth and model read at 0.15 s, which for those effects "
-             "is steady (sized on either truth, the planted values agree to 4 digits, the spool friction's to "
-             "0.04 %; the leakage's truth moves, a time constant of about 0.1 s at low flow, hence its rerun). "
-             "In `steady_two` and `time_two`, recovery was then judged in the round that found the effect, so a "
-             "planted effect found through another's ambiguity set and accepted in a later round was not judged "
-             "(fewer seeds in the rec column); these two rows were not rerun. In the 60-point section, `steady_none`, "
-             "`steady_flow_force` and the first seeds of the others ran before the lengthening; no record of a "
-             "case other than the leakage that counts lengthened points has one. Steady points solved as "
-             "equilibria (session 4) do not change these rows: the relief valve's Dahl friction state rests "
-             "anywhere, so the rig has no isolated equilibrium and its points stay settling runs.",
+             "Versions. The steady rows of this first table ran with the code of session 5: steady points "
+             "solved as equilibria (the relief valve's Dahl friction state acts on no other state when the "
+             "friction is zero, and Newton holds it; with a planted spool friction the spool sticks anywhere in "
+             "a band and the points stay settling runs), the residual-structure test in the verdict (steady "
+             "data), the ambiguity set extended to places parallel to a refitted ambiguous alternative, and "
+             "candidate refits continued once when cut short at their evaluation limit. The time-series rows "
+             "ran in sessions 2 and 3, before those changes; of them the extended ambiguity and the refit "
+             "continuation apply to a time series and could move the right column, and they were not rerun. In "
+             "`time_two` recovery was judged in the round that found the effect (fewer seeds in its rec "
+             "column). The 60-point section ran in sessions 3 and 4, with settling runs and without the "
+             "structure test or the extended ambiguity; in it `steady_none`, `steady_flow_force` and the "
+             "first seeds of the others ran before settling runs were lengthened where a point had not settled.",
              ""] + case_rows(results)
     lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]

@@ -175,11 +175,11 @@ class Circuit:
         t_eq = self.settings.t_end if t is None else float(t)
         status, x, y, J, iterations, sinks, growth_sinks = self.module.equilibrium(
             x_guess, vec.theta, t_eq, self.nominal, float(tol), int(max_iter), len(self.outputs))
-        rest = ~sinks  # a state that acts on nothing counts by its own rate's slope (blocks.solve.equilibrium)
+        sinks = np.array(sinks, dtype=bool)
+        rest = ~sinks  # J is block triangular: each state that acts on nothing counts by its own slope
         growth = max(float(np.max(np.linalg.eigvals(J[np.ix_(rest, rest)]).real)) if rest.any() else -np.inf,
                      float(growth_sinks)) if status == 0 else float("nan")
-        return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations),
-                           np.array(sinks, dtype=bool))
+        return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations), sinks)
 
     def _cavitation(self, outcome, vec: Vectors) -> list[str]:
         p_vap = vec.values["fluid.vapour_pressure"]
@@ -263,7 +263,7 @@ class Equilibrium:
     states: np.ndarray
     values: np.ndarray  # the logged signals at the equilibrium, SI (NaN unless converged)
     names: list[str]
-    growth: float  # the largest real part of the Jacobian's eigenvalues (neutral states left out), 1/s: < 0 stable
+    growth: float  # the largest real part of J's eigenvalues, 1/s: < 0 stable (states resting anywhere left out)
     iterations: int
     sinks: np.ndarray  # bool per state: acts on no other state, solved after the rest (blocks.solve.equilibrium)
 

@@ -10,9 +10,9 @@ stopped again (its dBIC is then an upper bound).
 Accepted only if all hold, tried in BIC order until one passes:
     |phi - phi0| > 3 SE, phi inside the candidate's physically plausible range, dBIC < -10, and the
     held-out error with the candidate (refits without each fold) is lower than without it.
-Ambiguity: another candidate that also passes the first three tests and whose dBIC is within 10 of the
-best, or whose de-correlated sensitivity is nearly parallel to the best's or to such a candidate's
-(|cos| > 0.99; a place in series with an ambiguous one need not have been refitted): then the report
+Ambiguity: another refitted candidate that also passes the first three tests and whose dBIC is within 10
+of the best, or one not refitted whose de-correlated sensitivity is nearly parallel to the best's or to
+such a candidate's (|cos| > 0.99; a place in series with an ambiguous one need not have been refitted): then the report
 says "ambiguous between A and B" and names the data that would separate them (the logged signal the two
 fitted alternatives disagree on most, and for steady data the prediction at 1.5 times the largest input).
 """
@@ -88,9 +88,10 @@ def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Sco
     start[column] = float(np.clip(score.phi, lo[column], hi[column]))
     f = fit(model, start, active, rows, max_nfev=REFIT_EVALUATIONS)
     if not f.converged:  # cut short, its chi^2 drop is understated: once more from where it stopped
-        first = f.nfev
-        f = fit(model, f.x, active, rows, max_nfev=REFIT_EVALUATIONS)
-        f.nfev += first
+        first = f
+        f = fit(model, first.x, active, rows, max_nfev=REFIT_EVALUATIONS)
+        f.nfev += first.nfev
+        f.failures = first.failures + f.failures
     phi, se = float(f.x[column]), float(f.se[column])
     dchi2 = f.chi2 - base_chi2
     dbic = dchi2 + np.log(f.n)
@@ -135,9 +136,10 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
 
 def ambiguity(best: Refit, refits: list[Refit], scores: list[Score]) -> tuple[list[str], list[str]]:
     """The places the data cannot tell from ``best`` and what would separate them: refitted alternatives
-    that pass the fit tests within 10 in BIC of it; screened places whose de-correlated sensitivity is
-    nearly parallel (|cos| > 0.99) to the best's, or to such an alternative's (not refitted, but to first
-    order as good as the alternative it parallels: the same loss at the other end of one line)."""
+    that pass the fit tests within 10 in BIC of it; places not refitted whose de-correlated sensitivity is
+    nearly parallel (|cos| > 0.99) to the best's, or to such an alternative's (to first order as good as
+    the one it parallels: the same loss at the other end of one line). A refitted place is judged by its
+    refit only."""
     ambiguous, separation = [], []
     alike = [best]
     for rf in refits:
@@ -145,8 +147,9 @@ def ambiguity(best: Refit, refits: list[Refit], scores: list[Score]) -> tuple[li
             ambiguous.append(rf.score.place.key)
             separation += separate(best, rf)
             alike.append(rf)
+    refitted = {id(rf.score) for rf in refits}  # a refitted place is judged by its refit, above
     for s in scores:
-        if s is best.score or s.status != "screened" or s.s_perp is None or s.place.key in ambiguous:
+        if id(s) in refitted or s.status != "screened" or s.s_perp is None or s.place.key in ambiguous:
             continue
         for ref in alike:
             if ref.score.s_perp is None or ref.score is s:

@@ -19,7 +19,8 @@ parameter that should be constant, refitted group by group.
   function of y (a curved sensor, a characteristic of the wrong shape). The score test of adding the
   Legendre polynomials P_1..P_3 of u = (2 y - y_max - y_min)/(y_max - y_min) on that channel's rows:
       Z_perp = Z - U U^T Z     (U: orthonormal basis of the fit's Jacobian; what the parameters absorb)
-      T = |V^T r|^2           (V: orthonormal basis of Z_perp, columns absorbed to 99.9 % dropped)
+      T = |V^T r|^2           (V: orthonormal basis of Z_perp without its directions of singular value
+                               below sqrt(1e-3): what the parameters absorb to 99.9 % tests nothing)
   is chi^2 with rank(V) degrees of freedom when the model is right (Ramsey's RESET test with the latent
   inputs and every free parameter in the null model).
 - Drift (steady, ``drift:`` parameters): the parameter refitted on each group alone (the other parameters
@@ -76,8 +77,9 @@ class LackOfFit:
 
     def significant(self, alpha: float = 0.01) -> list[str]:
         """Reasons the misfit is significant (empty: consistent with the noise). Every test made (chi^2,
-        block means, Ljung-Box per output channel, drift per parameter) is held at alpha / (number of
-        tests) (Bonferroni), so that a model that is right is called wrong in at most alpha of the cases."""
+        block means, Ljung-Box per output channel, structure per output channel, drift per parameter) is
+        held at alpha / (number of tests) (Bonferroni), so that a model that is right is called wrong in at
+        most alpha of the cases."""
         tests = 1 + (self.blocks_p is not None) + sum(c.ljung_box_p is not None for c in self.channels) \
             + sum(d.get("p_value") is not None for d in self.drift.values()) \
             + sum(c.structure_p is not None for c in self.channels)

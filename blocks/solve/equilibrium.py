@@ -31,8 +31,10 @@ whose own slope d_j = df_j/dx_j is below 1e-10 rho_j (the Dahl state of a spool 
 anywhere; an integrator) is "neutral": it stays where it is if its rate is what the others' tolerance
 leaves, |f_j| / s_j <= tol * rho_j, and otherwise there is no equilibrium (an integrator of a constant).
 Stability: the eigenvalues of the rest, and the slopes d_j of the states that act on nothing and are not
-neutral. Last, a Newton step of the rest at the result must be below tol (else status 2): a state that acts
-on nothing at the guess but on others where it came to rest would show here.
+neutral (a neutral one is left out: it rests anywhere, and nothing depends on it). Last, at the result
+each such state must still act on nothing and a Newton step of the rest must be below tol, else status 2;
+a solve that ends in status 1 or 2 with such states held is made again with every state in Newton's
+system (a coupling can be zero at the guess only: a product a*b at a = b = 0).
 t is held fixed: an equilibrium of a circuit whose inputs are constant from t on.
 
 Returns (status, x, y, J, iterations, sinks, growth_sinks):
@@ -111,6 +113,8 @@ def _row_rate(J, scale, j):
 def _own_rate_slope(rhs, t, x, theta, scale, j, fj, xp, fp):
     """d f_j / d x_j by a forward difference (the step of _dense_jacobian)."""
     h = np.sqrt(np.finfo(np.float64).eps) * max(abs(x[j]), scale[j])
+    if x[j] < 0.0:
+        h = -h
     for i in range(x.shape[0]):
         xp[i] = x[i]
     xp[j] = x[j] + h
@@ -170,6 +174,15 @@ def _newton_step(J, f, sink, A, piv, dx):
 @njit(cache=True)
 def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
     """Equilibrium of x' = rhs(t, x, theta) near x_guess; see the module docstring."""
+    out = _newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs, True)
+    if (out[0] == 1 or out[0] == 2) and np.any(out[5]):
+        # a coupling that is zero only at the guess made a state look like one that acts on nothing
+        return _newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs, False)
+    return out
+
+
+@njit(cache=True)
+def _newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs, use_sinks):
     n = x_guess.shape[0]
     x = x_guess.copy()
     f = np.empty(n)
@@ -195,7 +208,7 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
         _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
         if not _all_finite(J.ravel()):
             return 3, x, y, J, iterations, sink, growth_sinks
-        if it == 0:
+        if it == 0 and use_sinks:
             _sink_states(J, sink)
         if not _newton_step(J, f, sink, A, piv, dx):
             return 1, x, y, J, iterations, sink, growth_sinks
@@ -235,11 +248,18 @@ def newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs):
                 solved, d = _solve_sink(rhs, t, x, theta, scale, j, f, rho, tol, max_iter, xp, fp)
                 if solved != 0:
                     status = solved
-                elif abs(d) > 1e-10 * rho:
+                    break
+                if abs(d) > 1e-10 * rho:
                     growth_sinks = max(growth_sinks, d)
         _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
-        if status == 0 and np.any(sink):  # a state solved on its own row must not have moved the rest
-            if not (_newton_step(J, f, sink, A, piv, dx) and _scaled_max(dx, scale) <= tol):
+        if status == 0 and np.any(sink):
+            for j in range(n):  # each must still act on nothing where it came to rest ...
+                for i in range(n):
+                    if sink[j] and i != j and J[i, j] != 0.0:
+                        status = 2
+            # ... and the states solved on their own rows must not have moved the rest
+            if status == 0 and not (_newton_step(J, f, sink, A, piv, dx) and _scaled_max(dx, scale) <= tol):
                 status = 2
-        _ros_f(observe, t, x, theta, y)
+        if status == 0:
+            _ros_f(observe, t, x, theta, y)
     return status, x, y, J, iterations, sink, growth_sinks

@@ -23,7 +23,7 @@ def _refit(score, dbic, passes=True):
 
 def test_a_place_parallel_to_an_ambiguous_alternative_is_ambiguous_too(monkeypatch):
     """best: a turbulent loss (e1); a refitted laminar loss at meter.a passes within 10 in BIC (e2); the same
-    laminar loss at meter.b was not refitted but moves the channels like meter.a's (|cos| = 0.9995): it is
+    laminar loss at meter.b was not refitted but moves the channels like meter.a's (|cos| = 0.99955): it is
     in the set. A leakage along e3 and a place parallel only to a refit that failed its tests are not."""
     monkeypatch.setattr(selection, "separate", lambda a, b: [f"{a.score.place.key} vs {b.score.place.key}"])
     turb = _score("turbulent@meter.b", [1, 0, 0, 0])
@@ -81,3 +81,14 @@ def test_a_refit_cut_short_is_continued_once_from_where_it_stopped(monkeypatch):
         assert np.array_equal(calls[0], [0.0, 0.5])
         if attempts == 2:
             assert np.array_equal(calls[1], [1.0, 1.5]) and rf.dchi2 == (10.0 - 2) - 12.0
+
+
+def test_a_refitted_place_is_judged_by_its_refit_not_by_its_direction(monkeypatch):
+    """A place parallel to the best (|cos| = 0.9999) that was refitted and ended 11 behind in BIC is not
+    ambiguous: its refit is the better evidence. The same place not refitted would be."""
+    monkeypatch.setattr(selection, "separate", lambda a, b: [])
+    turb = _score("turbulent@meter.b", [1, 0, 0])
+    twin = _score("turbulent@meter.a", [1, 0.014, 0])
+    best = _refit(turb, -60.0)
+    assert selection.ambiguity(best, [best, _refit(twin, -49.0)], [turb, twin]) == ([], [])
+    assert selection.ambiguity(best, [best], [turb, twin])[0] == ["turbulent@meter.a"]

@@ -191,3 +191,34 @@ def test_a_residual_that_follows_its_fitted_value_is_a_reason_in_the_verdict():
                                  "p = 1.2e-05)"]
     curved.structure_p = 0.01  # one of two tests: held at 0.005
     assert lof.significant() == []
+
+
+def test_structure_test_holds_its_level_on_a_nonlinear_fit():
+    """y = a exp(b x) fitted by least squares: the test's columns depend on the noise through the fit
+    (Ramsey's RESET case). P_1 of the fitted value is a y-hat + const; the parameters absorb y-hat and all
+    but 0.1 % of the constant, so two columns count. Over 1500 draws the statistic has mean 2 and rejects
+    at 5 % in 5 % (within 4 binomial SEs)."""
+    from types import SimpleNamespace
+
+    from scipy.optimize import least_squares
+
+    from blocks.calibrate.fit import column_space
+    from blocks.calibrate.stats import structure
+
+    rng = np.random.default_rng(5)
+    x = np.linspace(0.0, 2.0, 21)
+    sigma = 0.05
+    model_of = lambda p: p[0] * np.exp(p[1] * x)  # noqa: E731
+    rejected, stats = 0, []
+    for _ in range(1500):
+        y = model_of([1.0, 0.8]) + sigma * rng.normal(size=x.size)
+        fit = least_squares(lambda p: (model_of(p) - y) / sigma, [1.0, 0.8], xtol=1e-12, ftol=1e-12)
+        J = np.column_stack([np.exp(fit.x[1] * x), fit.x[0] * x * np.exp(fit.x[1] * x)]) / sigma
+        model = SimpleNamespace(row_channel=np.zeros(x.size, dtype=int), measured=y, row_sigma=np.full(x.size, sigma))
+        res = SimpleNamespace(rows=np.ones(x.size, dtype=bool), r=fit.fun, J=J)
+        T, dof, p = structure(model, res, 0, column_space(J)[2])
+        assert dof == 2
+        stats.append(T)
+        rejected += p < 0.05
+    assert abs(np.mean(stats) - 2.0) < 4 * np.sqrt(2 * 2 / 1500)
+    assert abs(rejected / 1500 - 0.05) < 4 * np.sqrt(0.05 * 0.95 / 1500)

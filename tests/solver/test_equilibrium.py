@@ -119,3 +119,31 @@ def test_an_integrator_of_nothing_rests_anywhere_and_of_something_nowhere(tmp_pa
     assert eq.status == status
     if status == 0:
         assert eq["i"] == 7.0 and eq["pB"] == pytest.approx(Q / G2, rel=1e-9) and eq.stable
+
+
+@pytest.mark.parametrize("order", ["a first", "b first"])
+def test_a_coupling_that_is_zero_only_at_the_guess_does_not_fool_the_solver(tmp_path, order):
+    """a' = 1 - a, b' = 2 - b - a*b from a = b = 0: there the product couples nothing (d b'/d a = -b = 0),
+    so both states look as if they act on nothing. Whichever is solved first, the result must be the
+    equilibrium a = b = 1, with eigenvalues -1 and -2 (J = [[-1, 0], [-b, -1 - a]])."""
+    components = {
+        "int_a": {"type": "integrator"}, "int_b": {"type": "integrator"},
+        "one": {"type": "constant", "params": {"value": 1.0}}, "two": {"type": "constant", "params": {"value": 2.0}},
+        "rate_a": {"type": "sum", "params": {"k1": 1.0, "k2": -1.0}},
+        "rate_b": {"type": "sum", "params": {"k1": 1.0, "k2": -1.0, "k3": -1.0}},
+        "ab": {"type": "product"},
+    }
+    if order == "b first":
+        components = dict(reversed(list(components.items())))
+    netlist = {
+        "components": components,
+        "nets": {"a": ["int_a.y", "rate_a.u2", "ab.u1"], "b": ["int_b.y", "rate_b.u2", "ab.u2"],
+                 "p": ["ab.y", "rate_b.u3"], "c1": ["one.y", "rate_a.u1"], "c2": ["two.y", "rate_b.u1"],
+                 "da": ["rate_a.y", "int_a.u"], "db": ["rate_b.y", "int_b.u"]},
+        "outputs": {"a": {"of": "int_a.y"}, "b": {"of": "int_b.y"}},
+        "simulation": {"t_end": "1 s", "dt_out": "10 ms"},
+    }
+    (tmp_path / "ab.yaml").write_text(yaml.safe_dump(netlist, sort_keys=False))
+    eq = Circuit.from_file(tmp_path / "ab.yaml").equilibrium()
+    assert eq.status == 0 and eq["a"] == pytest.approx(1.0, rel=1e-9) and eq["b"] == pytest.approx(1.0, rel=1e-9)
+    assert eq.stable and eq.growth == pytest.approx(-1.0, rel=1e-5)
