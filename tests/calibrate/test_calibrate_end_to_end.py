@@ -71,6 +71,12 @@ def test_steady_flow_force_is_found_and_the_stiffness_stops_drifting(tmp_path, c
     assert report["overall"]["before"]["chi2_nu"] > 1.5 and 0.5 < report["overall"]["after"]["chi2_nu"] < 1.5
     assert report["overall"]["after"]["heldout_error"] < report["overall"]["before"]["heldout_error"]
     assert report["overall"]["after"]["unsettled_points"] == 0
+    # the residuals follow the fitted values before (the missing force grows with the flow), not after
+    structure = {c["channel"]: c for c in report["channels"] if c["role"] == "output"}
+    assert min(c["structure_before"]["p_value"] for c in structure.values()) < 1e-4
+    # chi^2, three structure tests and the drift of k_s: each held at 0.01 / 5 (Bonferroni)
+    assert min(c["structure_after"]["p_value"] for c in structure.values()) > 0.01 / 5
+    assert "Residuals against the fitted value" in (out / "report.md").read_text()
     # the augmented netlist is a real file with the effect at its fitted value
     augmented = Path(report["rounds"][0]["augmented_netlist"])
     doc = yaml.safe_load(augmented.read_text())
