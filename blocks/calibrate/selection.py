@@ -12,8 +12,8 @@ Accepted only if all hold, tried in BIC order until one passes:
     held-out error with the candidate (refits without each fold) is lower than without it.
 Ambiguity: another refitted candidate that also passes the first three tests and whose dBIC is within 10
 of the best, or one not refitted whose de-correlated sensitivity is nearly parallel to the best's or to
-such a candidate's (|cos| > 0.99; a place in series with an ambiguous one need not have been refitted): then the report
-says "ambiguous between A and B" and names the data that would separate them (the logged signal the two
+such a candidate's (|cos| > 0.99; a place in series with an ambiguous one need not have been refitted):
+then the report says "ambiguous between A and B" and names the data that would separate them (the logged signal the two
 fitted alternatives disagree on most, and for steady data the prediction at 1.5 times the largest input).
 """
 
