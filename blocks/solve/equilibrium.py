@@ -241,7 +241,8 @@ def _newton(rhs, observe, x_guess, theta, t, scale, tol, max_iter, n_obs, use_si
             f[i] = fn[i]
     if status == 0:
         _ros_f(rhs, t, x, theta, f)
-        _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
+        if np.any(sink):  # their rows' rates rho_j need the Jacobian before they are solved
+            _dense_jacobian(rhs, t, x, f, theta, scale, J, xp, fp)
         for j in range(n):
             if sink[j]:
                 rho = _row_rate(J, scale, j)
