@@ -202,6 +202,11 @@ def nearest(name: str, choices, n: int = 3) -> list[str]:
     return list(dict.fromkeys(same + close))[:n]
 
 
+def display_factor(unit: str) -> float:
+    """The SI factor of a display unit ("bar" -> 1e5); 1 for a dimensionless or SI-marked one ("", "1", "SI")."""
+    return 1.0 if unit in ("", "1", "SI") else parse_unit(unit).factor
+
+
 def to_si(value: float, unit: str) -> float:
     """Convert ``value`` given in ``unit`` to SI."""
     return value * parse_unit(unit).factor

@@ -11,12 +11,12 @@ from pathlib import Path
 import numpy as np
 
 from blocks.result import atomic_write_figure, atomic_write_text
-from blocks.units import UnitError, parse_unit
+from blocks.units import UnitError, display_factor
 
 
 def _factor(unit: str) -> float:
     try:
-        return parse_unit(unit).factor if unit not in ("", "SI") else 1.0
+        return display_factor(unit)
     except UnitError:
         return 1.0
 
@@ -127,6 +127,7 @@ def build(cal) -> dict:
                     "augmented_netlist": str(r.augmented_file) if r.augmented_file else None,
                     "notes": r.notes, "screening": screening_rows(r), "refits": refit_rows(r),
                     "ambiguous": r.decision.ambiguous, "separation": r.decision.separation,
+                    "choice_moves": r.decision.depends,
                     "heldout_error": r.stage.heldout.error if r.stage.heldout else None}
                    for r in cal.rounds],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
@@ -247,6 +248,7 @@ def markdown(cal, info: dict) -> str:
                      f"{f['plausible']} | {_g(f['heldout_error'], 3)} | {f['accepted']} | {'; '.join(f['reasons'])} |")
         if r["ambiguous"]:
             L += ["", "Ambiguous: " + ", ".join(r["ambiguous"])] + [f"- {s}" for s in r["separation"]]
+            L += [f"- what the choice changes: {s}" for s in r["choice_moves"]]
         if r["augmented_netlist"]:
             L += ["", f"Augmented netlist: `{r['augmented_netlist']}`"]
         L.append("")

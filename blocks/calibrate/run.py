@@ -308,6 +308,7 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             name = best.score.place.key if best else "?"
             lines.append(f"round {rnd.index}: ambiguous between {name} and {', '.join(rnd.decision.ambiguous)}")
             lines += [f"  to separate them: {s}" for s in rnd.decision.separation]
+            lines += [f"  what the choice changes: {s}" for s in rnd.decision.depends]
     unexplained = False
     if cal.final is not None and not cal.final.fit.converged:
         lines.append(f"the final fit stopped at its limit of {cal.final.fit.nfev} evaluations before converging: "

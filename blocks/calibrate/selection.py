@@ -15,6 +15,9 @@ of the best, or one not refitted whose de-correlated sensitivity is nearly paral
 such a candidate's (|cos| > 0.99; a place in series with an ambiguous one need not have been refitted):
 then the report says "ambiguous between A and B" and names the data that would separate them (the logged signal the two
 fitted alternatives disagree on most, and for steady data the prediction at 1.5 times the largest input).
+It also says what the choice changes: every parameter fitted in both alternatives (the declared free ones and
+the effects accepted in earlier rounds) whose two values differ by more than its standard error in the best
+fit. A stiffness or an earlier effect that is only as good as an ambiguous choice must not be read as measured.
 """
 
 from __future__ import annotations
@@ -65,6 +68,7 @@ class Decision:
     ambiguous: list[str]  # place keys ambiguous with the best
     separation: list[str]
     base_heldout: HeldOut | None
+    depends: list[str] = field(default_factory=list)  # what the choice among the ambiguous alternatives changes
 
 
 def candidates_to_refit(scores: list[Score], top: int) -> list[Score]:
@@ -131,7 +135,9 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
         accepted = rf
     best = accepted or next((rf for rf in refits if rf.passes_fit_tests), None)
     ambiguous, separation = ambiguity(best, refits, scores) if best is not None else ([], [])
-    return Decision(refits, accepted, ambiguous, separation, base_ho)
+    depends = [line for rf in refits if rf is not best and rf.score.place.key in ambiguous
+               for line in [choice_moves(best, rf)] if line]
+    return Decision(refits, accepted, ambiguous, separation, base_ho, depends)
 
 
 def ambiguity(best: Refit, refits: list[Refit], scores: list[Score]) -> tuple[list[str], list[str]]:
@@ -165,6 +171,29 @@ def ambiguity(best: Refit, refits: list[Refit], scores: list[Score]) -> tuple[li
                     f"what the free parameters absorb), which is ambiguous with {key}")
                 break
     return ambiguous, separation
+
+
+def choice_moves(a: Refit, b: Refit) -> str | None:
+    """The parameters fitted in both a and b whose values differ by more than one standard error of a's fit
+    (a: the best), in their display units; None when nothing shared moves that much."""
+    from blocks.units import display_factor
+
+    moved = []
+    for k, g in enumerate(a.model.layout.globals):
+        if not a.fit.active[k]:
+            continue
+        try:
+            j = b.model.layout.index(g.name)
+        except KeyError:
+            continue
+        se, diff = float(a.fit.se[k]), abs(float(a.fit.x[k] - b.fit.x[j]))
+        if b.fit.active[j] and np.isfinite(se) and se > 0 and diff > se:
+            f = display_factor(g.unit)
+            moved.append(f"{g.name} = {a.fit.x[k] / f:.4g} against {b.fit.x[j] / f:.4g} {g.unit or 'SI'} "
+                         f"({diff / se:.2g} SE)")
+    if not moved:
+        return None
+    return f"{a.score.place.key} vs {b.score.place.key}: the choice moves " + "; ".join(moved)
 
 
 def _aligned(base: FitResult, base_model: Model, model: Model) -> FitResult:

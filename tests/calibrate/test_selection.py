@@ -92,3 +92,26 @@ def test_a_refitted_place_is_judged_by_its_refit_not_by_its_direction(monkeypatc
     best = _refit(turb, -60.0)
     assert selection.ambiguity(best, [best, _refit(twin, -49.0)], [turb, twin]) == ([], [])
     assert selection.ambiguity(best, [best], [turb, twin])[0] == ["turbulent@meter.a"]
+
+
+def test_the_report_says_which_shared_parameters_the_ambiguous_choice_moves():
+    """Two alternatives fitted beside a declared stiffness and an effect accepted earlier: the stiffness moves
+    by 2 SE (named, in bar), the earlier effect by half an SE (not named); each alternative's own parameter
+    is fitted in one model only, and a parameter held fixed in the other is not compared."""
+    from blocks.calibrate.experiment import Free
+
+    def alternative(own, x, active):
+        names = ["mcv.kp", "mcv.c_ff", own, "held"]
+        layout = SimpleNamespace(globals=[Free(n, 0.0, -1.0, 1.0, 1.0, "bar" if n == "mcv.kp" else "1")
+                                          for n in names])
+        layout.index = {n: k for k, n in enumerate(names)}.__getitem__  # KeyError, as Layout.index
+        fit = SimpleNamespace(x=np.array(x), se=np.array([2e5, 0.04, 1e4, 1.0]), active=np.array(active))
+        return SimpleNamespace(model=SimpleNamespace(layout=layout), fit=fit,
+                               score=SimpleNamespace(place=SimpleNamespace(key=own)))
+
+    a = alternative("sensor_offset@p1", [895e5, 0.43, 9e4, 0.0], [True, True, True, True])
+    b = alternative("sensor_offset@p3", [891e5, 0.45, -9e4, 7.0], [True, True, True, False])
+    assert selection.choice_moves(a, b) == ("sensor_offset@p1 vs sensor_offset@p3: the choice moves mcv.kp = 895 "
+                                            "against 891 bar (2 SE)")
+    b.fit.x[0] = 895.5e5
+    assert selection.choice_moves(a, b) is None
