@@ -10,8 +10,11 @@ blocks of samples.
 
 Noise: given in the experiment file, or estimated here from the data itself:
 
-- ``repeats`` (steady): the pooled standard deviation of the channel over points repeated at the same
-  imposed inputs in the same group, sigma^2 = sum_groups sum_k (y_k - mean)^2 / sum_groups (n - 1);
+- ``repeats`` (steady): the pooled standard deviation of the channel over repeated points,
+  sigma^2 = sum_sets sum_k (y_k - mean)^2 / sum_sets (n - 1). A set of repeats is the rows of one group
+  and file with the same value in the experiment's ``repeats:`` column (a point number: one operating point
+  set up again, its readings noisy, inputs included), or, without that column, with the same imposed input
+  readings to 1e-12 (exact set points, as typed in by hand).
 - ``diff`` (time series): from the second differences d_k = y_{k+1} - 2 y_k + y_{k-1}, which remove a
   signal that is smooth on the sample scale: var(d) = 6 sigma^2 for white noise, estimated robustly as
   sigma = 1.4826 * median|d - median(d)| / sqrt(6) (steps in the signal are outliers of d, not noise).
@@ -38,6 +41,7 @@ class Dataset:
     table: Table  # the first file's
     noise_notes: dict[str, str]
     sources: list[str] | None = None  # steady points: the data file of each row (None: one file)
+    repeat_ids: np.ndarray | None = None  # the repeats: column, when the experiment names one
 
     @property
     def groups(self) -> dict[str, np.ndarray]:
@@ -50,6 +54,12 @@ class Dataset:
 def load_data(exp: Experiment) -> Dataset:
     files = exp.data_files or [exp.data]
     parts = [_load_file(exp, f, first=k == 0, several=len(files) > 1) for k, f in enumerate(files)]
+    found = {label for p in parts for label in p.labels}
+    unused = [str(label) for label in exp.spec.groups if str(label) not in found]
+    if unused and exp.spec.group is not None:  # a group_table may list more settings than were run
+        raise exp.error(("groups", unused[0]), f"groups.{unused[0]}: no rows of group '{unused[0]}' in column "
+                                               f"'{exp.spec.group}' of {', '.join(f.name for f in files)} "
+                                               f"(groups there: {', '.join(sorted(found, key=str))})")
     if len(parts) == 1:
         return parts[0]
     measured = {name: np.concatenate([p.measured[name] for p in parts]) for name in parts[0].measured}
@@ -59,12 +69,13 @@ def load_data(exp: Experiment) -> Dataset:
         sources = [str(f) for p, f in zip(parts, files) for _ in range(p.n)]
     sigma, notes = {}, {}
     keys = [f"{source}:{label}" for source, label in zip(sources, labels)]  # repeats only within a file
+    ids = np.concatenate([p.repeat_ids for p in parts]) if exp.spec.repeats else None
     for ch in exp.channels:
         if ch.noise_method == "repeats":  # pooled over every file's repeated points
-            sigma[ch.name], notes[ch.name] = _from_repeats(exp, measured, keys, ch.name)
+            sigma[ch.name], notes[ch.name] = _from_repeats(exp, measured, keys, ch, ids)
         else:
             sigma[ch.name], notes[ch.name] = parts[0].sigma[ch.name], parts[0].noise_notes[ch.name]
-    return Dataset("steady", len(labels), None, labels, measured, sigma, parts[0].table, notes, sources)
+    return Dataset("steady", len(labels), None, labels, measured, sigma, parts[0].table, notes, sources, ids)
 
 
 def _load_file(exp: Experiment, file, first: bool = True, several: bool = False) -> Dataset:
@@ -103,7 +114,10 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
             from blocks.units import parse_unit
 
             if not parse_unit(table.units[ch.name]).same_dimension(parse_unit(ch.si_unit)):
-                raise table.error(f"unit '{table.units[ch.name]}' does not fit the signal's {ch.si_unit}", ch.name)
+                given = table.units[ch.name]
+                raise table.error(f"dimensionless (no unit in brackets?), but '{ch.name}' is in {ch.si_unit}: write "
+                                  f"it as '{ch.name} [<unit>]'" if given == "1" else
+                                  f"unit '{given}' does not fit the signal's {ch.si_unit}", ch.name)
         if first:
             ch.unit = table.units[ch.name]
         if ch.si_unit in ("", "SI"):  # a netlist parameter without declared unit: the data column's dimension
@@ -114,6 +128,10 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
         measured[ch.name] = values
     t = None
     if kind == "time":
+        from blocks.units import parse_unit
+
+        if not parse_unit(table.units["t"]).same_dimension(parse_unit("s")):
+            raise table.error(f"unit '{table.units['t']}' is not a time", "t")
         t = table.columns["t"]
         steps = np.diff(t)
         bad = np.nonzero(~(steps > 0))[0]
@@ -122,6 +140,17 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
             what = "repeats" if steps[bad[0]] == 0 else "goes back from"
             raise table.error(f"time {what} the previous row's (times must increase strictly)", "t", k)
     labels = list(table.labels) if table.labels is not None else ["all"] * n
+    ids = None
+    if exp.spec.repeats is not None:
+        if kind != "steady":
+            raise exp.error(("repeats",), "repeats: marks repeated steady points; a time series has none")
+        if exp.spec.repeats not in table.columns:
+            raise DataFileError(table.file, f"no column '{exp.spec.repeats}' (the experiment's repeats:); columns: "
+                                            f"{', '.join(table.columns)}", table.header_line)
+        ids = table.columns[exp.spec.repeats]
+        bad = np.nonzero(~np.isfinite(ids))[0]
+        if bad.size:
+            raise table.error("empty cell in the column that marks repeated points", exp.spec.repeats, int(bad[0]))
     if exp.groups:
         missing = sorted(set(labels) - set(exp.groups), key=str)
         if missing and group is not None:
@@ -137,7 +166,7 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
         elif ch.noise_method == "repeats":
             if kind != "steady":
                 raise exp.error((f"{ch.role}s", ch.name, "noise"), "noise: repeats needs steady points; use diff")
-            sigma[ch.name], notes[ch.name] = _from_repeats(exp, measured, labels, ch.name)
+            sigma[ch.name], notes[ch.name] = _from_repeats(exp, measured, labels, ch, ids)
         else:
             if kind != "time":
                 raise exp.error((f"{ch.role}s", ch.name, "noise"), "noise: diff needs a time series; use repeats")
@@ -146,25 +175,37 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
             if not sigma[ch.name] > 0:
                 raise exp.error((f"{ch.role}s", ch.name, "noise"), f"noise: the second differences of "
                                                                    f"'{ch.name}' are all zero; give the noise")
-    return Dataset(kind, n, t, labels, measured, sigma, table, notes)
+    return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
 
 
-def _from_repeats(exp: Experiment, measured: dict, labels: list[str], name: str) -> tuple[float, str]:
-    keys: dict[tuple, list[int]] = {}
+def _from_repeats(exp: Experiment, measured: dict, labels: list[str], ch, ids) -> tuple[float, str]:
+    """The pooled standard deviation of channel ``ch`` over the sets of repeated points (module docstring)."""
+    where = (f"{ch.role}s", ch.name, "noise")
+    said = f"{ch.role}s.{ch.name}.noise"
     inputs = [c.name for c in exp.inputs]
+    if ids is None and ch.role == "input":
+        raise exp.error(where, f"{said}: repeats of the imposed input '{ch.name}' need a column that marks the "
+                               f"repeated points (repeats: <column>); matched by their own readings they always agree")
+    sets: dict[tuple, list[int]] = {}
     for k, label in enumerate(labels):
-        key = (label,) + tuple(round(float(measured[i][k]), 12) for i in inputs)
-        keys.setdefault(key, []).append(k)
+        key = (label, float(ids[k])) if ids is not None else \
+            (label,) + tuple(round(float(measured[i][k]), 12) for i in inputs)
+        sets.setdefault(key, []).append(k)
     ss, dof = 0.0, 0
-    for rows in keys.values():
+    for rows in sets.values():
         if len(rows) > 1:
-            y = measured[name][rows]
+            y = measured[ch.name][rows]
             ss += float(np.sum((y - y.mean()) ** 2))
             dof += len(rows) - 1
     if dof == 0:
-        raise exp.error(("outputs", name, "noise"), f"noise: no repeated points (same group, same data file and "
-                                                     f"same imposed inputs) to estimate the noise of '{name}' from; "
-                                                     f"give it")
+        how = (f"the same value of '{exp.spec.repeats}'" if ids is not None else
+               "the same imposed input readings; with noisy input readings, mark them with a column (repeats: "
+               "<column>)")
+        raise exp.error(where, f"{said}: no repeated points (same group, same data file and {how}) to estimate "
+                               f"the noise of '{ch.name}' from; give it")
+    if not ss > 0:
+        raise exp.error(where, f"{said}: the {dof + len([r for r in sets.values() if len(r) > 1])} repeated "
+                               f"readings of '{ch.name}' agree exactly; give its noise")
     return float(np.sqrt(ss / dof)), f"estimated from repeated points ({dof} degrees of freedom)"
 
 

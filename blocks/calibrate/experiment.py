@@ -7,6 +7,7 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     data: data/relief_rig.csv            # one CSV: steady points (no t column) or a time series (t column);
                                          # steady points may come from several files: [a.csv, b.csv]
     group: setting                       # the grouping column (optional)
+    repeats: point                       # a column marking repeated points (optional; for noise: repeats)
     inputs:                              # measured columns imposed on the circuit
       Q: {parameter: Q_in, noise: "0.5 l/min"}          # steady: the parameter each point sets
       # time series: cmd: {signal: cmd, latent: [u1, u2, u3], noise: 0.005}
@@ -46,7 +47,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key
-from blocks.units import UnitError, nearest, parse_unit, quantity, split_quantity
+from blocks.units import UnitError, display_factor, nearest, parse_unit, quantity, split_quantity
 
 Value = Union[float, int, str]
 
@@ -105,6 +106,7 @@ class ExperimentSpec(_Strict):
     netlist: str
     data: Union[str, Annotated[list[str], Field(min_length=1)]]
     group: str | None = None
+    repeats: str | None = None  # a column whose equal values (in a group and file) mark one operating point
     inputs: dict[str, ChannelSpec] = Field(default_factory=dict)
     outputs: dict[str, ChannelSpec]
     overrides: dict[str, Value] = Field(default_factory=dict)
@@ -279,6 +281,10 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             if isinstance(ch.noise, str) and ch.noise.strip() in ("repeats", "diff"):
                 method = ch.noise.strip()
             else:
+                if si_unit not in ("", "1", "SI") and not isinstance(ch.noise, str):
+                    raise located.error(path + ("noise",), f"{role}s.{name}.noise: {ch.noise} has no unit; write it "
+                                        f"with one (e.g. \"{ch.noise} {'bar' if si_unit == 'Pa' else si_unit}\"): a "
+                                        f"bare number would be read in SI, as {ch.noise} {si_unit}")
                 try:
                     noise = quantity(ch.noise, si_unit) if si_unit not in ("", "1", "SI") else _free_si(ch.noise)
                 except UnitError as exc:
@@ -308,10 +314,17 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     if spec.group_table is not None:
         _read_group_table(spec, located, base, groups, param_name)
 
+    set_by = {c.parameter: f"inputs.{c.name}" for c in channels if c.parameter is not None}
+    set_by.update({n: f"inputs.{c.name}.latent" for c in channels for n in c.latent})
+    set_by.update({n: "overrides" for n in overrides})
+    set_by.update({n: f"groups.{label}" for label, values in groups.items() for n in values})
     free: list[Free] = []
     for name, fs in spec.free.items():
         path = ("free", name)
         param_name(name, path)
+        if name in set_by:
+            raise located.error(path, f"free.{name}: also set by {set_by[name]}; a parameter is either fitted "
+                                      f"(free) or set, not both")
         entry = entries[name]
         values = circuit.flat.parameters.evaluate({})
         start = values[name] if fs.initial is None else si(name, fs.initial, path + ("initial",))
@@ -324,10 +337,19 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 lower = max(lower, entry.bounds.lower)
             if entry.bounds.upper is not None:
                 upper = min(upper, entry.bounds.upper)
+        unit = display_unit(entry)
+        shown = (lambda v: f"{v / display_factor(unit):g} {unit}".strip()) if unit else (lambda v: f"{v:g} (SI)")
+        if not lower < upper:
+            raise located.error(path, f"free.{name}: the lower bound {shown(lower)} is not below the upper "
+                                f"{shown(upper)}" + (" (with the netlist's bounds of the parameter)"
+                                                     if entry.bounds is not None else "")
+                                + ("; a parameter held at one value is set under overrides, not free"
+                                   if lower == upper else ""))
         if not lower <= start <= upper:
-            raise located.error(path, f"free.{name}: the start value {start:g} is outside [{lower:g}, {upper:g}] (SI)")
+            raise located.error(path, f"free.{name}: the start value {shown(start)} is outside "
+                                      f"[{shown(lower)}, {shown(upper)}]")
         step = si(name, fs.step, path + ("step",)) if fs.step is not None else default_step(start, lower, upper)
-        free.append(Free(name, float(start), float(lower), float(upper), float(step), display_unit(entry)))
+        free.append(Free(name, float(start), float(lower), float(upper), float(step), unit))
     for k, name in enumerate(spec.drift):
         if name not in spec.free:
             raise located.error(("drift", k), f"drift: '{name}' is not a free parameter")

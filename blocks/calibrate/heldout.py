@@ -15,7 +15,8 @@ Without groups (or with one data file), the group and experiment schemes fall ba
 result).
 
 The held-out error is the mean of the squared normalised residuals of the held-out output rows (1 for a
-model that predicts to the noise), and the RMSE per output channel in SI.
+model that predicts to the noise); per output channel the same mean (chi^2/n: a prediction fits nothing, so
+n, not nu) and the RMSE in SI.
 """
 
 from __future__ import annotations
@@ -35,6 +36,7 @@ class HeldOut:
     rmse: dict  # output channel -> RMSE (SI)
     n: int
     folds: list = field(default_factory=list)  # (name, n rows, error)
+    chi2n: dict = field(default_factory=dict)  # output channel -> mean squared normalised residual
 
 
 def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
@@ -63,7 +65,8 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
             else f" (one data file: {spec.scheme} fell back to kfold)")
         return f"{k}-fold over points{note}", [(f"fold {i + 1}", np.sort(p)) for i, p in enumerate(parts)]
     parts = np.array_split(np.arange(data.n), k)
-    return f"{k} contiguous blocks of the time series", [(f"block {i + 1}", p) for i, p in enumerate(parts)]
+    note = "" if spec.scheme == "kfold" else f" ({spec.scheme} needs steady points: it fell back to kfold)"
+    return f"{k} contiguous blocks of the time series{note}", [(f"block {i + 1}", p) for i, p in enumerate(parts)]
 
 
 def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20) -> HeldOut:
@@ -95,12 +98,13 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20) -> HeldOut:
         errors[sel] = r[sel]
         held_rows |= sel
         per_fold.append((name, int(sel.sum()), float(np.mean(r[sel] ** 2)) if sel.any() else float("nan")))
-    rmse = {}
+    rmse, chi2n = {}, {}
     for ci, ch in enumerate(model.channels):
         if ch.role != "output":
             continue
         sel = held_rows & (model.row_channel == ci)
         if sel.any():
             rmse[ch.name] = float(np.sqrt(np.mean((errors[sel] * model.sigma[ci]) ** 2)))
+            chi2n[ch.name] = float(np.mean(errors[sel] ** 2))
     err = float(np.mean(errors[held_rows] ** 2)) if held_rows.any() else float("nan")
-    return HeldOut(scheme, err, rmse, int(held_rows.sum()), per_fold)
+    return HeldOut(scheme, err, rmse, int(held_rows.sum()), per_fold, chi2n)

@@ -45,6 +45,7 @@ def channel_table(cal) -> list[dict]:
                 row[f"structure_{tag}"] = {"chi2": cs.structure, "dof": cs.structure_dof, "p_value": cs.structure_p}
             ho = stage.heldout if stage else None
             row[f"heldout_rmse_{tag}"] = (ho.rmse.get(ch.name) / f) if ho and ch.name in ho.rmse else None
+            row[f"heldout_chi2n_{tag}"] = ho.chi2n.get(ch.name) if ho else None
         rows.append(row)
     return rows
 
@@ -157,11 +158,16 @@ def markdown(cal, info: dict) -> str:
                      + ("" if o["fit_converged"] else f"; the fit stopped at its limit of {o['fit_evaluations']} "
                                                       f"evaluations before converging"))
     L += ["", "| channel | unit | noise | RMSE before | chi^2/nu before | RMSE after | chi^2/nu after | "
-              "held-out RMSE before | held-out RMSE after |", "|---|---|---|---|---|---|---|---|---|"]
+              "held-out RMSE before | held-out chi^2/n before | held-out RMSE after | held-out chi^2/n after |",
+          "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in info["channels"]:
         L.append(f"| {r['channel']} ({r['role']}) | {r['unit']} | {_g(r['noise'], 3)} | {_g(r['rmse_before'], 3)} | "
                  f"{_g(r['chi2nu_before'], 3)} | {_g(r['rmse_after'], 3)} | {_g(r['chi2nu_after'], 3)} | "
-                 f"{_g(r['heldout_rmse_before'], 3)} | {_g(r['heldout_rmse_after'], 3)} |")
+                 f"{_g(r['heldout_rmse_before'], 3)} | {_g(r['heldout_chi2n_before'], 3)} | "
+                 f"{_g(r['heldout_rmse_after'], 3)} | {_g(r['heldout_chi2n_after'], 3)} |")
+    L += ["", "Held-out: each fold predicted by the model refitted without it; chi^2/n is the mean squared "
+              "residual over the noise (1 for a model that predicts to the noise; a prediction fits nothing, so "
+              "n, not nu)."]
     L.append("")
     L.append("Noise: " + "; ".join(f"{r['channel']}: {r['noise_source']}" for r in info["channels"]) + ".")
     if data.kind == "time":

@@ -83,8 +83,9 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
     say = progress or (lambda message: None)
     clock = time.perf_counter()
     exp = load_experiment(experiment)
-    data = load_data(exp)
     out = Path(out)
+    refuse_to_overwrite_inputs(exp, out)
+    data = load_data(exp)
     cal = Calibration(exp, data, out)
     globals_ = list(exp.free) + latent_globals(exp, data)
     netlist = exp.netlist
@@ -148,6 +149,21 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
     cal.verdict, cal.unexplained = verdict(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
+
+
+def refuse_to_overwrite_inputs(exp: Experiment, out: Path) -> None:
+    """The run writes its netlists and report under ``out``: an input there (continuing a calibration from
+    its own experiment_augmented.yaml into the same folder) would be overwritten while it is being read."""
+    from blocks.errors import VphsError
+
+    folder = out.resolve()
+    inputs = [Path(exp.file).resolve(), exp.netlist] + list(exp.data_files or [exp.data])
+    if exp.spec.group_table is not None:
+        inputs.append(exp.resolve(exp.spec.group_table.file))
+    for path in inputs:
+        if folder in path.parents:
+            raise VphsError(f"{exp.file}: its input {path} is inside the output folder {out}, which this run "
+                            f"writes into; give another folder (-o)")
 
 
 def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
@@ -220,7 +236,9 @@ def trace_round(k: int, stage: Stage, exp: Experiment, data: Dataset, globals_: 
 
     doc = NetlistDoc.read(stage.netlist)
     ctx = context(stage, exp, data, doc)
-    places = all_places(ctx, exp.spec.trace, accepted_keys)
+    taken = {g.name for g in globals_} | set(stage.model.circuit.flat.parameters.entries)
+    places = [p for p in all_places(ctx, exp.spec.trace, accepted_keys) if p.param not in taken]
+    # a place whose parameter exists already (an effect written in by an earlier calibration) is in the model
     sdoc = doc.copy()
     for place in places:
         if place.kind == "netlist":

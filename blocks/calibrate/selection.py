@@ -122,7 +122,9 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
                               f"{rf.score.place.plausible[1]:.3g}] {rf.score.place.unit}")
         if not rf.dbic < DBIC_MAX:
             rf.reasons.append(f"dBIC = {rf.dbic:.3g} (needs < {DBIC_MAX:g})")
-        if rf.reasons or accepted is not None:
+        if accepted is not None and not rf.reasons:
+            rf.reasons.append(f"{rf.dbic - accepted.dbic:.3g} behind the accepted {accepted.score.place.key} in BIC")
+        if rf.reasons:
             continue
         if with_heldout:
             if base_ho is None:

@@ -86,7 +86,12 @@ class LackOfFit:
         level = alpha / tests
         out = []
         if self.p_value < level:
-            out.append(f"chi^2/nu = {self.reduced:.3g} (p = {self.p_value:.2g})")
+            worst = max(self.channels, key=lambda c: c.reduced, default=None)
+            where = "" if worst is None else (
+                f"; worst channel: {worst.name}" + (" (an imposed input: its measured values disagree with what "
+                                                    "the model imposes)" if worst.role == "input" else "")
+                + f", chi^2/nu = {worst.reduced:.3g}")
+            out.append(f"chi^2/nu = {self.reduced:.3g} (p = {self.p_value:.2g}){where}")
         if self.blocks_p is not None and self.blocks_p < level:
             out.append(f"slow misfit: block means of the residuals chi^2 = {self.blocks_chi2:.4g} on "
                        f"{self.blocks_dof} (p = {self.blocks_p:.2g})")

@@ -70,6 +70,14 @@ def test_steady_flow_force_is_found_and_the_stiffness_stops_drifting(tmp_path, c
     # fit and held-out before/after
     assert report["overall"]["before"]["chi2_nu"] > 1.5 and 0.5 < report["overall"]["after"]["chi2_nu"] < 1.5
     assert report["overall"]["after"]["heldout_error"] < report["overall"]["before"]["heldout_error"]
+    for c in report["channels"]:  # per output: held-out chi^2/n is the RMSE over the noise, squared
+        if c["role"] == "output":
+            assert c["heldout_chi2n_after"] == pytest.approx((c["heldout_rmse_after"] / c["noise"]) ** 2, rel=1e-9)
+    outputs = [c for c in report["channels"] if c["role"] == "output"]  # equal rows per channel: the mean
+    assert np.mean([c["heldout_chi2n_after"] for c in outputs]) == pytest.approx(
+        report["overall"]["after"]["heldout_error"], rel=1e-9)
+    losers = [f for f in report["rounds"][0]["refits"] if not f["accepted"]]
+    assert all(f["reasons"] for f in losers)  # every refit not accepted says why
     assert report["overall"]["after"]["unsettled_points"] == 0
     # the residuals follow the fitted values before (the missing force grows with the flow), not after
     structure = {c["channel"]: c for c in report["channels"] if c["role"] == "output"}
@@ -87,6 +95,15 @@ def test_steady_flow_force_is_found_and_the_stiffness_stops_drifting(tmp_path, c
     keys = {row["key"] for row in report["rounds"][0]["screening"]}
     assert {"flow_force@relief", "sensor_offset@p1", "sensor_offset@Q", "line_loss_turbulent@relief.a"} <= keys
     assert report["rounds"][0]["screening_reproduces_fit_within_sigma"] < 0.2
+    # continuing from the written experiment: not into its own folder (its netlist would be overwritten while
+    # read), but into another, where the effect is already in the model and its fit is the same
+    written = digest(augmented)
+    assert cli.main(["calibrate", str(out / "experiment_augmented.yaml"), "-o", str(out), "-q"]) == 2
+    assert "is inside the output folder" in capsys.readouterr().err and digest(augmented) == written
+    assert cli.main(["calibrate", str(out / "experiment_augmented.yaml"), "-o", str(tmp_path / "next"), "-q"]) == 0
+    again = json.loads((tmp_path / "next" / "report.json").read_text())
+    assert again["effects"] == [] and not any(r["key"] == "flow_force@relief" for r in again["rounds"][0]["screening"])
+    assert again["overall"]["before"]["chi2"] == pytest.approx(report["overall"]["after"]["chi2"], rel=1e-4)
 
 
 def test_steady_null_case_claims_nothing(tmp_path):

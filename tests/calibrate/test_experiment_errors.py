@@ -61,6 +61,17 @@ CASES = {
     "input without parameter or signal": (changed(**{"inputs": {"Q": {"noise": "1 l/min"}}}), r"give 'parameter'"),
     "drift of a fixed parameter": (changed(drift=["A_ret"]), r"drift: 'A_ret' is not a free parameter"),
     "missing netlist file": (changed(netlist="nowhere.yaml"), r"netlist: file not found"),
+    "noise without a unit": (changed(**{"outputs": {"p1": {"signal": "p1", "noise": 0.2}}}),
+                             r"outputs\.p1\.noise: 0\.2 has no unit.*read in SI, as 0\.2 Pa"),
+    "free and set by a group": (changed(**{"groups": {"1": {"p_set": "30 bar", "k_s": "60 bar"}}}),
+                                r"free\.k_s: also set by groups\.1"),
+    "free and imposed": (changed(**{"free": {"Q_in": {"initial": "20 l/min"}}}), r"free\.Q_in: also set by inputs\.Q"),
+    "free with no room": (changed(**{"free": {"k_s": {"initial": "50 bar", "lower": "50 bar", "upper": "50 bar"}}}),
+                          r"lower bound 50 bar is not below the upper 50 bar; .* under overrides"),
+    "bounds swapped": (changed(**{"free": {"k_s": {"initial": "50 bar", "lower": "500 bar", "upper": "5 bar"}}}),
+                       r"lower bound 500 bar is not below the upper 5 bar"),
+    "a group without rows": (changed(**{"groups": {"1": {"p_set": "30 bar"}, "2": {"p_set": "45 bar"}}}),
+                             r"groups\.2: no rows of group '2' in column 'setting' of data\.csv \(groups there: 1\)"),
 }
 
 
@@ -80,6 +91,8 @@ def test_bad_data_names_file_row_and_column(tmp_path, capsys):
     assert code == 2 and re.search(r"data\.csv:3:2: column 'Q \[l/min\]': 'abc' is not a number", err), err
     code, err, _ = run(tmp_path, capsys, GOOD, data="setting,Q [l/min]\n1,20\n")
     assert code == 2 and "no column 'p1'" in err, err
+    code, err, _ = run(tmp_path, capsys, GOOD, data="setting,Q [l/min],p1\n1,20,40\n")
+    assert code == 2 and "dimensionless (no unit in brackets?), but 'p1' is in Pa" in err, err
 
 
 def test_time_series_must_not_go_back(tmp_path, capsys):
@@ -88,6 +101,14 @@ def test_time_series_must_not_go_back(tmp_path, capsys):
             "outputs": {"pA": {"signal": "pA", "noise": "1 bar"}}}
     code, err, _ = run(tmp_path, capsys, spec, data="t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n0.1,0,20\n")
     assert code == 2 and re.search(r"data\.csv:4:1: column 't \[s\]': time repeats", err), err
+
+
+def test_a_time_column_must_be_a_time(tmp_path, capsys):
+    spec = {"netlist": str(ROOT / "netlists" / "experiments" / "circuits" / "drive_line_open.yaml"),
+            "data": "data.csv", "inputs": {"cmd": {"signal": "cmd", "latent": ["u1"], "noise": 0.01}},
+            "outputs": {"pA": {"signal": "pA", "noise": "1 bar"}}}
+    code, err, _ = run(tmp_path, capsys, spec, data="t [bar],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
+    assert code == 2 and re.search(r"data\.csv:1:1: column 't \[bar\]': unit 'bar' is not a time", err), err
 
 
 def test_yaml_syntax_error_is_located(tmp_path, capsys):

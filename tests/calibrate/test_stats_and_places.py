@@ -222,3 +222,16 @@ def test_structure_test_holds_its_level_on_a_nonlinear_fit():
         rejected += p < 0.05
     assert abs(np.mean(stats) - 2.0) < 4 * np.sqrt(2 * 2 / 1500)
     assert abs(rejected / 1500 - 0.05) < 4 * np.sqrt(0.05 * 0.95 / 1500)
+
+
+def test_a_significant_chi2_names_its_worst_channel_and_says_when_it_is_an_input():
+    from blocks.calibrate.stats import ChannelStats, LackOfFit
+
+    channels = [ChannelStats("speed", "output", 100, 1.0, 1.0, 110.0, 1.1),
+                ChannelStats("cmd", "input", 100, 1.0, 1.0, 4900.0, 49.0)]
+    lof = LackOfFit(5010.0, 200, 3, 197, 25.4, 0.0, channels)
+    (reason,) = lof.significant()
+    assert reason == ("chi^2/nu = 25.4 (p = 0); worst channel: cmd (an imposed input: its measured values "
+                      "disagree with what the model imposes), chi^2/nu = 49")
+    channels[1].reduced = 0.9
+    assert lof.significant()[0].endswith("worst channel: speed, chi^2/nu = 1.1")
