@@ -378,10 +378,12 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     # an ambiguous alternative that was accepted instead estimates a parameter of other meaning (a leakage
     # P1->T is not a leakage R->V of the same conductance), so it is not compared with the planted value
     final = {key: (value, se) for key, _title, _where, _param, value, se, _unit in cal.accepted}
+    exchanges = [{"out": ex.out_key, "in": ex.in_key, "dbic": ex.dbic, "made": ex.made} for ex in cal.exchanges]
     found, recovered = [], []
-    for plant in case.plants:
-        found.append(any(r["accepted"] == plant.key or plant.key in r["ambiguous"]
-                         for r in rounds if r["accepted"] is not None))
+    for plant in case.plants:  # in the final model, or ambiguous with an effect that is
+        found.append(plant.key in final
+                     or any(plant.key in r["ambiguous"] for r in rounds if r["accepted"] in final)
+                     or any(e["made"] and e["out"] == plant.key and e["dbic"] > -10 for e in exchanges))
         if plant.key in final:
             est, se = final[plant.key]
             recovered.append(bool(abs(est - values[plant.key]) <= 3 * se))
@@ -394,7 +396,7 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     ho_ratio = float(np.sqrt(cal.final.heldout.error / truth_err)) if cal.final and cal.final.heldout else None
     return {"case": case.name, "seed": seed, "kind": case.kind, "expect": case.expect,
             "planted": {p.key: values.get(p.key) for p in case.plants}, "lambda": lams,
-            "accepted": accepted, "rounds": rounds, "found": found, "recovered": recovered,
+            "accepted": accepted, "rounds": rounds, "exchanges": exchanges, "found": found, "recovered": recovered,
             "first_right": first_right, "ranked_first": bool(ranked_first),
             "chi2nu_after": cal.final.lof.reduced if cal.final else None,
             "heldout_ratio": ho_ratio, "unexplained": cal.unexplained, "seconds": seconds,
@@ -675,7 +677,7 @@ def rec_misses(results: list[dict]) -> list[str]:
 def _recovered(case: Case, r: dict):
     """All planted parameters within 3 SE, judged only where the planted place itself was accepted (an
     ambiguous alternative has a parameter of other meaning); None when none was."""
-    accepted = {x["accepted"] for x in r["rounds"] if x["accepted"]}
+    accepted = set(r["accepted"])  # the final model's effects
     judged = [rec for plant, rec in zip(case.plants, r["recovered"]) if plant.key in accepted and rec is not None]
     return all(judged) if judged else None
 

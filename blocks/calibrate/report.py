@@ -131,6 +131,9 @@ def build(cal) -> dict:
                     "choice_moves": r.decision.depends,
                     "heldout_error": r.stage.heldout.error if r.stage.heldout else None}
                    for r in cal.rounds],
+        "exchanges": [{"out": ex.out_key, "round": ex.round, "in": ex.in_key, "dbic": ex.dbic, "value": ex.phi,
+                       "se": ex.se, "z": ex.z, "plausible": ex.plausible, "made": ex.made, "reasons": ex.reasons,
+                       "netlist": str(ex.netlist) if ex.netlist else None} for ex in cal.exchanges],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
     }
 
@@ -257,6 +260,17 @@ def markdown(cal, info: dict) -> str:
             L += [f"- what the choice changes: {s}" for s in r["choice_moves"]]
         if r["augmented_netlist"]:
             L += ["", f"Augmented netlist: `{r['augmented_netlist']}`"]
+        L.append("")
+    if info["exchanges"]:
+        L += ["## Exchange check", "",
+              "Each effect accepted before the last round, swapped for an alternative that passed the fit tests in "
+              "its round, the final model refitted (dBIC: the exchanged model's BIC minus the final model's):", "",
+              "| taken out (round) | put in | value | SE | |value|/SE | dBIC | plausible | made | why not |",
+              "|---|---|---|---|---|---|---|---|---|"]
+        for ex in info["exchanges"]:
+            L.append(f"| {ex['out']} ({ex['round']}) | {ex['in']} | {_g(ex['value'])} | {_g(ex['se'], 2)} | "
+                     f"{_g(ex['z'], 3)} | {_g(ex['dbic'], 4)} | {ex['plausible']} | {ex['made']} | "
+                     f"{'; '.join(ex['reasons'])} |")
         L.append("")
     L += ["## Plots", "", "![residuals](residuals.png)", "",
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "

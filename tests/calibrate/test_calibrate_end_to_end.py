@@ -174,3 +174,28 @@ def test_alternatives_the_data_cannot_tell_apart_are_reported_as_ambiguous(tmp_p
     assert pair - {decision.accepted.score.place.key} <= set(decision.ambiguous)
     said = "\n".join(cal.verdict)
     assert "ambiguous between line_loss_laminar@ret." in said and "to separate them:" in said
+
+
+def test_an_early_stand_in_is_exchanged_for_the_effect_it_stood_in_for(tmp_path):
+    """Two effects planted (a spool flow force and a p1 sensor offset, 60 points; the data file says how they
+    were made). Round 1 takes a p1 gain, which mimics part of both; round 2 finds the flow force; beside a
+    gain the offset no longer earns a round of its own. The exchange check swaps the gain for the offset,
+    which beside the flow force fits better by over 10 in BIC, and the final model is the planted one."""
+    spec = yaml.safe_load((ROOT / "netlists" / "experiments" / "relief_rig_steady.yaml").read_text())
+    spec.update({"netlist": str(RIG), "data": str(Path(__file__).parent / "data" / "relief_two_effects.csv"),
+                 "trace": {"only": ["sensor_gain", "sensor_offset", "flow_force"]}})
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out")
+    assert cal.rounds[0].decision.accepted.score.place.key == "sensor_gain@p1"  # the premise: a stand-in
+    (made,) = [ex for ex in cal.exchanges if ex.made]
+    assert (made.out_key, made.in_key) == ("sensor_gain@p1", "sensor_offset@p1") and made.dbic < -10
+    assert made.stage is cal.final and not cal.unexplained
+    final = {key: (value, se) for key, _t, _w, _p, value, se, _u in cal.accepted}
+    assert set(final) == {"sensor_offset@p1", "flow_force@relief"}
+    for key, planted in (("sensor_offset@p1", 0.812e5), ("flow_force@relief", 0.165)):
+        assert abs(final[key][0] - planted) < 3 * final[key][1], (key, final[key])
+    assert any(line.startswith("exchanged: sensor_gain@p1 (accepted in round 1) for sensor_offset@p1")
+               for line in cal.verdict)
+    written = yaml.safe_load((tmp_path / "out" / "experiment_augmented.yaml").read_text())
+    assert set(written["corrections"]["p1"]) == {"offset"}  # the gain is gone from what is written
+    assert Path(tmp_path / "out" / written["netlist"]).resolve() == made.netlist.resolve()
