@@ -11,7 +11,8 @@ Round k (k = 1, 2, 3):
 3. if one is accepted: write the augmented netlist ``round<k>/augmented.yaml`` (the original is never
    touched) with the effect as a real block or parameter, at its fitted value, and go on; else stop.
 After the last round the final model is refitted from the written file (so what is reported is what the
-file does). The verdict: the effects found, the ambiguities, and "unexplained discrepancy remains" when
+file does). With two effects or more, the exchange check (:mod:`blocks.calibrate.exchange`) may then swap
+an early one for an alternative of its round that fits better beside the later ones. The verdict: the effects found, the ambiguities, and "unexplained discrepancy remains" when
 the final fit is still significantly worse than the noise (chi^2, block means, residual whiteness or drift;
 p < 0.01 for the family of tests, Bonferroni).
 """
