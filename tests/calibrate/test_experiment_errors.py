@@ -95,19 +95,18 @@ def test_bad_data_names_file_row_and_column(tmp_path, capsys):
     assert code == 2 and "dimensionless (no unit in brackets?), but 'p1' is in Pa" in err, err
 
 
+SERIES = {"netlist": str(ROOT / "netlists" / "experiments" / "circuits" / "drive_line_open.yaml"),
+          "data": "data.csv", "inputs": {"cmd": {"signal": "cmd", "latent": ["u1"], "noise": 0.01}},
+          "outputs": {"pA": {"signal": "pA", "noise": "1 bar"}}}
+
+
 def test_time_series_must_not_go_back(tmp_path, capsys):
-    spec = {"netlist": str(ROOT / "netlists" / "experiments" / "circuits" / "drive_line_open.yaml"),
-            "data": "data.csv", "inputs": {"cmd": {"signal": "cmd", "latent": ["u1"], "noise": 0.01}},
-            "outputs": {"pA": {"signal": "pA", "noise": "1 bar"}}}
-    code, err, _ = run(tmp_path, capsys, spec, data="t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n0.1,0,20\n")
+    code, err, _ = run(tmp_path, capsys, SERIES, data="t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n0.1,0,20\n")
     assert code == 2 and re.search(r"data\.csv:4:1: column 't \[s\]': time repeats", err), err
 
 
 def test_a_time_column_must_be_a_time(tmp_path, capsys):
-    spec = {"netlist": str(ROOT / "netlists" / "experiments" / "circuits" / "drive_line_open.yaml"),
-            "data": "data.csv", "inputs": {"cmd": {"signal": "cmd", "latent": ["u1"], "noise": 0.01}},
-            "outputs": {"pA": {"signal": "pA", "noise": "1 bar"}}}
-    code, err, _ = run(tmp_path, capsys, spec, data="t [bar],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
+    code, err, _ = run(tmp_path, capsys, SERIES, data="t [bar],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
     assert code == 2 and re.search(r"data\.csv:1:1: column 't \[bar\]': unit 'bar' is not a time", err), err
 
 
