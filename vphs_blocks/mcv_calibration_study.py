@@ -97,6 +97,19 @@ def page(info: dict, thesis: dict[str, float], measured_inputs: dict[str, dict[s
     seps = [s for r in info["rounds"] for s in r["separation"]]
     if seps:
         L += ["", "To separate the ambiguous candidates:"] + [f"- {s}" for s in seps]
+    moves = [s for r in info["rounds"] for s in r.get("choice_moves", [])]
+    if seps:
+        L += ["", "What the choice between ambiguous candidates changes in the other fitted parameters: "
+                  + ("; ".join(moves) if moves else "nothing by more than one standard error.")]
+    exchanges = info.get("exchanges", [])
+    if exchanges:
+        made = [e for e in exchanges if e["made"]]
+        L += ["", "Exchange check (each effect accepted before the last round swapped for an alternative of its "
+                  "round, the final model refitted): "
+              + (f"{made[0]['out']} exchanged for {made[0]['in']} (BIC lower by {-made[0]['dbic']:.3g})." if made
+                 else f"no exchange; the {len(exchanges)} tried ("
+                      + ", ".join(f"{e['out']} -> {e['in']}" for e in exchanges) + ") fit worse by "
+                      + f"{min(e['dbic'] for e in exchanges):.3g} to {max(e['dbic'] for e in exchanges):.3g} in BIC.")]
     L += ["", "Final values (all refitted together in the augmented model):", "",
           "| effect | where | parameter | value | SE | unit |", "|---|---|---|---|---|---|"]
     for e in info["effects"]:
