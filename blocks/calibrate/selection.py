@@ -232,7 +232,8 @@ def separate(a: Refit, b: Refit) -> list[str]:
     key_a, key_b = a.score.place.key, b.score.place.key
     if which is not None and best > 1e-3:
         o, diff = which
-        apart = f"the two fits predict it up to {diff / parse_unit(o.display_unit).factor:.3g} {o.display_unit} apart"
+        unit = "" if o.display_unit in ("", "1") else f" {o.display_unit}"
+        apart = f"the two fits predict it up to {diff / parse_unit(o.display_unit or '1').factor:.3g}{unit} apart"
         imposed = next((c.name for c in a.model.channels if c.role == "input" and c.name == o.name), None)
         if imposed is not None:  # the data have it, but as an imposed input: say so rather than "measure it"
             out.append(f"{key_a} vs {key_b}: comparing the logged signal '{o.name}' with the data's column "
