@@ -11,7 +11,10 @@ does part of its work, no longer earns its place. The check:
         refit the final model with E replaced by A (the effects in their round order, A in E's place; every
         free parameter refitted, warm-started at the final fit, A at its round-k value);
         dBIC = BIC(exchanged) - BIC(final)   (the same number of parameters: the chi^2 difference)
-    the exchange with the lowest dBIC is made if dBIC < 0 and A is over 3 SE from zero and plausible in it.
+    the exchange with the lowest dBIC is made if dBIC < -1 and A is over 3 SE from zero and plausible in it.
+
+The margin of 1 keeps a tie a tie: two places that act alike (a delay on the command or on the spool) fit
+to the same chi^2 up to the refits' tolerance, and swapping them would change nothing but the name.
 
 The last accepting round needs no check: its alternatives were refitted beside exactly the other effects of
 the final model. An exchange with dBIC above -10 (within the acceptance margin) leaves the two ambiguous,
@@ -31,6 +34,8 @@ from blocks.calibrate.candidates import registered
 from blocks.calibrate.experiment import Free
 from blocks.calibrate.patch import NetlistDoc
 from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN
+
+MARGIN = 1.0  # an exchange must lower BIC by more than this
 
 
 @dataclass
@@ -98,8 +103,8 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
             z = abs(phi - alt.score.place.zero) / se if se > 0 and np.isfinite(se) else 0.0
             ex = Exchange(out.score.place.key, rnd.index, key, float(stage.fit.bic() - final.fit.bic()), phi, se,
                           z, bool(lo <= phi <= hi), alt.score.place, stage, netlist, new_globals)
-            if not ex.dbic < 0:
-                ex.reasons.append(f"BIC {ex.dbic:+.3g}: not better than the final model")
+            if not ex.dbic < -MARGIN:
+                ex.reasons.append(f"BIC {ex.dbic:+.3g}: not lower than the final model's by over {MARGIN:g}")
             if not ex.z > Z_MIN:
                 ex.reasons.append(f"|phi| = {ex.z:.2g} SE (needs > {Z_MIN:g})")
             if not ex.plausible:

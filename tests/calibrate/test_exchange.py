@@ -32,7 +32,8 @@ def test_the_swaps_tried_and_the_one_made(tmp_path):
     took D (alternatives G, H); round 3 took E (alternative F, never tried: the last accepting round's
     alternatives were refitted beside exactly the final model's other effects). The stand-in fit gives the
     exchanged models' BIC minus the final's: A->B -13, D->G +4, D->H -20 with H at 2 SE. Made: A->B, and
-    the others say why not; with A->B at -5 it is still made, but ambiguous (within 10)."""
+    the others say why not; with A->B at -5 it is still made, but ambiguous (within 10); at -0.5 it is a
+    tie and nothing is swapped."""
     a, b, c = _refit("A"), _refit("B"), _refit("C", passes=False)
     d, g, h = _refit("D"), _refit("G"), _refit("H")
     e, f = _refit("E"), _refit("F")
@@ -62,11 +63,13 @@ def test_the_swaps_tried_and_the_one_made(tmp_path):
     made = [ex for ex in tried if ex.made]
     assert [(ex.out_key, ex.in_key, ex.dbic) for ex in made] == [("A", "B", -13.0)] and made[0].ambiguous is False
     reasons = {ex.in_key: ex.reasons for ex in tried}
-    assert reasons["B"] == [] and reasons["G"] == ["BIC +4: not better than the final model"]
+    assert reasons["B"] == [] and reasons["G"] == ["BIC +4: not lower than the final model's by over 1"]
     assert reasons["H"] == ["|phi| = 2 SE (needs > 3)"]
     outcome["p:B"] = (95.0, 5.0, 1.0)
     (made,) = [ex for ex in try_exchanges(cal, globals_, fit_stage) if ex.made]
     assert (made.in_key, made.dbic, made.ambiguous) == ("B", -5.0, True)
+    outcome["p:B"] = (99.5, 5.0, 1.0)  # a tie (two places that act alike): nothing is swapped
+    assert not any(ex.made for ex in try_exchanges(cal, globals_, fit_stage))
 
 
 def test_nothing_is_tried_with_fewer_than_two_effects(tmp_path):
