@@ -506,7 +506,9 @@ def table(results: list[dict]) -> str:
              "when two effects or more were accepted, so the rows in which some seed did (`steady_two`, "
              "`steady_leakage`, the 60-point `steady_two` and `steady_off_library`, `mcv_two`, `mcv_off_library`, "
              "`time_two`) were rerun with it, and the others are what that code gives too. " + _exchange_effect()
-             + "",
+             + " (The check's margin, a swap must lower BIC by over 1, came after a first run in which "
+             "`time_two` swapped the delay on the command for the same delay on the spool, at dBIC -0.0, in 4 "
+             "seeds; those 4 seeds were rerun with it.)",
              ""] + case_rows(results) + [""] + rec_misses(results)
     lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
@@ -622,12 +624,12 @@ def _exchange_effect() -> str:
         for line in path.read_text().splitlines():
             r = json.loads(line) if line.strip() else {}
             if any(e["made"] for e in r.get("exchanges", [])):
-                name = r["case"] + ("" if path.name in ("results.jsonl", "results_mcv.jsonl") else
-                                    f" ({path.stem.removeprefix('results_')})")
+                name = f"`{r['case']}`" if not path.stem.startswith("results_flows") else \
+                    f"the {3 * int(path.stem.removeprefix('results_flows'))}-point `{r['case']}`"
                 made[name] = made.get(name, 0) + 1
     if not made:
         return "It made no exchange in any seed."
-    return "It made an exchange in " + ", ".join(f"{n} seed{'s' * (n > 1)} of `{c}`" for c, n in made.items()) + "."
+    return "It made an exchange in " + ", ".join(f"{n} seed{'s' * (n > 1)} of {c}" for c, n in made.items()) + "."
 
 
 def _chance_claim(results: list[dict], case: str, n: int) -> str:
