@@ -468,8 +468,8 @@ def table(results: list[dict]) -> str:
              "any effect accepted; **unexpl** = 'unexplained discrepancy remains'. Seed k draws the same noise in "
              "every case of its kind, so rows are paired.",
              "",
-             "The criteria are the issue's, applied per seed and unchanged. Two of them cannot be met per seed by "
-             "the steady experiment, whatever the calibration does; the reference rows show it:",
+             "The criteria are the issue's, applied per seed and unchanged. Three of them cannot be met in every "
+             "seed, whatever the calibration does; the reference rows and the theory show it:",
              "",
              "- chi^2/nu in [0.8, 1.25]: the `*_none` rows fit the true model (declared = truth). With 21 steady "
              "points nu is about 60 and chi^2/nu has a standard deviation of sqrt(2/60) = 0.18: the true model "
