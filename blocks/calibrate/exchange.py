@@ -18,9 +18,9 @@ to the same chi^2 up to the refits' tolerance, and swapping them would change no
 
 The last accepting round needs no check: its alternatives were refitted beside exactly the other effects of
 the final model. An exchange with dBIC above -10 (within the acceptance margin) leaves the two ambiguous,
-and the verdict says so. At most one exchange is made; the exchanged model is written as
-``exchange/augmented.yaml`` (a netlist rebuilt from the declared one, so E is not in it) and becomes the
-final model.
+and the verdict says so. At most one exchange is made. Each exchanged model is written as
+``exchange/<E>--<A>.yaml`` (a netlist rebuilt from the declared one, so E is not in it); the one made
+becomes the final model, and the written experiment file points at it.
 """
 
 from __future__ import annotations
