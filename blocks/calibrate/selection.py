@@ -191,8 +191,8 @@ def choice_moves(a: Refit, b: Refit) -> str | None:
         se, diff = float(a.fit.se[k]), abs(float(a.fit.x[k] - b.fit.x[j]))
         if b.fit.active[j] and np.isfinite(se) and se > 0 and diff > se:
             f = display_factor(g.unit)
-            moved.append(f"{g.name} = {a.fit.x[k] / f:.4g} against {b.fit.x[j] / f:.4g} {g.unit or 'SI'} "
-                         f"({diff / se:.2g} SE)")
+            unit = "" if g.unit in ("1", "") else f" {g.unit}"
+            moved.append(f"{g.name} = {a.fit.x[k] / f:.4g} against {b.fit.x[j] / f:.4g}{unit} ({diff / se:.2g} SE)")
     if not moved:
         return None
     return f"{a.score.place.key} vs {b.score.place.key}: the choice moves " + "; ".join(moved)

@@ -113,5 +113,8 @@ def test_the_report_says_which_shared_parameters_the_ambiguous_choice_moves():
     b = alternative("sensor_offset@p3", [891e5, 0.45, -9e4, 7.0], [True, True, True, False])
     assert selection.choice_moves(a, b) == ("sensor_offset@p1 vs sensor_offset@p3: the choice moves mcv.kp = 895 "
                                             "against 891 bar (2 SE)")
-    b.fit.x[0] = 895.5e5
+    b.fit.x[1] = 0.53  # a dimensionless one: no unit shown
+    assert selection.choice_moves(a, b).endswith("mcv.kp = 895 against 891 bar (2 SE); mcv.c_ff = 0.43 against "
+                                                  "0.53 (2.5 SE)")
+    b.fit.x[0], b.fit.x[1] = 895.5e5, 0.45
     assert selection.choice_moves(a, b) is None
