@@ -28,6 +28,7 @@ import numpy as np
 
 from blocks.calibrate.experiment import Experiment
 from blocks.datafile import DataFileError, Table, read_table
+from blocks.units import parse_unit
 
 
 @dataclass
@@ -111,8 +112,6 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
         if bad.size:
             raise table.error("empty cell in a compared or imposed column", ch.name, int(bad[0]))
         if ch.si_unit not in ("", "1", "SI"):
-            from blocks.units import parse_unit
-
             if not parse_unit(table.units[ch.name]).same_dimension(parse_unit(ch.si_unit)):
                 given = table.units[ch.name]
                 raise table.error(f"dimensionless (no unit in brackets?), but '{ch.name}' is in {ch.si_unit}: write "
@@ -121,15 +120,11 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
         if first:
             ch.unit = table.units[ch.name]
         if ch.si_unit in ("", "SI"):  # a netlist parameter without declared unit: the data column's dimension
-            from blocks.units import parse_unit
-
             dims = parse_unit(ch.unit).describe_dims()
             ch.si_unit = dims if dims not in ("", "1") else "1"
         measured[ch.name] = values
     t = None
     if kind == "time":
-        from blocks.units import parse_unit
-
         if not parse_unit(table.units["t"]).same_dimension(parse_unit("s")):
             raise table.error(f"unit '{table.units['t']}' is not a time", "t")
         t = table.columns["t"]

@@ -95,7 +95,6 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
     x_prev: np.ndarray | None = None
     prev_model: Model | None = None
     n_rounds = rounds or exp.spec.trace.rounds
-    accepted_keys: set[str] = set()
     for k in range(1, n_rounds + 1):
         t0 = time.perf_counter()
         stage = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
@@ -104,7 +103,7 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         if k == 1:
             cal.initial = stage
         t1 = time.perf_counter()
-        rnd = trace_round(k, stage, exp, data, globals_, out, accepted_keys, with_heldout)
+        rnd = trace_round(k, stage, exp, data, globals_, out, with_heldout)
         stage.heldout = rnd.decision.base_heldout or (heldout(stage.model, stage.fit, exp.spec.heldout)
                                                        if with_heldout else None)
         cal.rounds.append(rnd)
@@ -117,7 +116,6 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         if acc is None:
             break
         place = acc.score.place
-        accepted_keys.add(place.key)
         cal.accepted.append((place.key, registered()[place.candidate].title, place.where, place.param, acc.phi,
                              acc.se, place.unit))
         globals_ = globals_ + [free_of(place, acc.phi, acc.score.step)]
@@ -246,26 +244,27 @@ def context(stage: Stage, exp: Experiment, data: Dataset, doc: NetlistDoc) -> Co
     return Context(doc, circuit.flat, circuit.structure, values, exp, data, logged, q_ref, p_ref, w_ref, t_span)
 
 
-def all_places(ctx: Context, spec, accepted_keys: set[str]):
+def all_places(ctx: Context, spec, taken: set[str]):
+    """Every place of every candidate asked for, except those whose parameter the model has already (an
+    effect accepted in an earlier round, or written in by an earlier calibration)."""
     places = []
     for name, cand in registered().items():
         if spec.only is not None and name not in spec.only:
             continue
         if name in spec.exclude:
             continue
-        places += [p for p in cand.places(ctx) if p.key not in accepted_keys]
+        places += [p for p in cand.places(ctx) if p.param not in taken]
     return places
 
 
 def trace_round(k: int, stage: Stage, exp: Experiment, data: Dataset, globals_: list[Free], out: Path,
-                accepted_keys: set[str], with_heldout: bool) -> Round:
+                with_heldout: bool) -> Round:
     from blocks.circuit import Circuit
 
     doc = NetlistDoc.read(stage.netlist)
     ctx = context(stage, exp, data, doc)
     taken = {g.name for g in globals_} | set(stage.model.circuit.flat.parameters.entries)
-    places = [p for p in all_places(ctx, exp.spec.trace, accepted_keys) if p.param not in taken]
-    # a place whose parameter exists already (an effect written in by an earlier calibration) is in the model
+    places = all_places(ctx, exp.spec.trace, taken)
     sdoc = doc.copy()
     for place in places:
         if place.kind == "netlist":
