@@ -379,6 +379,8 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     # P1->T is not a leakage R->V of the same conductance), so it is not compared with the planted value
     final = {key: (value, se) for key, _title, _where, _param, value, se, _unit in cal.accepted}
     exchanges = [{"out": ex.out_key, "in": ex.in_key, "dbic": ex.dbic, "made": ex.made} for ex in cal.exchanges]
+    removals = [{"effect": t.key, "dbic": t.dbic, "z": t.z, "refitted": t.refitted, "removed": t.removed}
+                for t in cal.removals]
     found, recovered = [], []
     for plant in case.plants:  # in the final model, or ambiguous with an effect that is
         found.append(plant.key in final
@@ -396,7 +398,8 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     ho_ratio = float(np.sqrt(cal.final.heldout.error / truth_err)) if cal.final and cal.final.heldout else None
     return {"case": case.name, "seed": seed, "kind": case.kind, "expect": case.expect,
             "planted": {p.key: values.get(p.key) for p in case.plants}, "lambda": lams,
-            "accepted": accepted, "rounds": rounds, "exchanges": exchanges, "found": found, "recovered": recovered,
+            "accepted": accepted, "rounds": rounds, "exchanges": exchanges, "removals": removals, "found": found,
+            "recovered": recovered,
             "first_right": first_right, "ranked_first": bool(ranked_first),
             "chi2nu_after": cal.final.lof.reduced if cal.final else None,
             "heldout_ratio": ho_ratio, "unexplained": cal.unexplained, "seconds": seconds,

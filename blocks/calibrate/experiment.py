@@ -34,6 +34,11 @@ Errors name the file, line and column (the style of :mod:`blocks.netlist.flatten
 are imposed through a netlist parameter per point; inputs of a time series are logged signals of the
 netlist (e.g. a command profile) whose levels are the netlist parameters listed under ``latent``: the true
 input is latent in both cases (errors-in-variables, :mod:`blocks.calibrate.model`).
+
+A recorded input trace can instead be imposed by the netlist itself: a ``profile`` block whose times and
+values read the data file's columns (``times: {csv: data.csv, column: t}``, ``values: {csv: data.csv,
+column: cmd}``). Such a column is imposed exactly, its measurement noise not accounted for; the report names
+it (:func:`read_by_netlist`), and the verdict does when a discrepancy remains.
 """
 
 from __future__ import annotations
@@ -163,6 +168,7 @@ class Experiment:
     free: list[Free]
     corrections: dict[str, dict[str, float]] = field(default_factory=dict)
     data_files: list[Path] = field(default_factory=list)
+    exact_columns: list[tuple[str, str]] = field(default_factory=list)  # (column, parameter): see read_by_netlist
 
     @property
     def inputs(self) -> list[Channel]:
@@ -368,7 +374,26 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 "gain": float(quantity(corr.get("gain", 0.0), "1"))}
         except UnitError as exc:
             raise located.error(("corrections", ch_name), f"corrections.{ch_name}: {exc}") from None
-    return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files)
+    return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files,
+                      read_by_netlist(circuit, data_files))
+
+
+def read_by_netlist(circuit, data_files: list[Path]) -> list[tuple[str, str]]:
+    """(column, parameter) of every array parameter the netlist reads from one of the experiment's data files
+    (``{csv:, column:}``, e.g. a recorded command trace on a ``profile`` block). Such a column is imposed
+    exactly: its measurement noise is not accounted for (errors-in-variables covers the inputs listed under
+    ``inputs:``), so the report names it, and the verdict does when a discrepancy remains."""
+    from blocks.netlist.spec import CsvColumn
+
+    files = {Path(f).resolve() for f in data_files}
+    found = []
+    for name, entry in circuit.flat.parameters.entries.items():
+        if isinstance(entry.raw, CsvColumn):
+            source = (Path(entry.source.file).parent / entry.raw.csv).resolve()
+            column = entry.raw.column.split("[")[0].strip()
+            if source in files and column != "t":  # sample times are exact in the model
+                found.append((column, name))
+    return found
 
 
 def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> None:

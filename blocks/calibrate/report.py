@@ -107,6 +107,7 @@ def build(cal) -> dict:
         "data": [str(f) for f in exp.data_files] if len(exp.data_files) > 1 else str(exp.data),
         "kind": data.kind, "points": data.n, "groups": list(data.groups),
         "verdict": cal.verdict, "unexplained_discrepancy": cal.unexplained,
+        "imposed_exactly": [{"column": column, "parameter": param} for column, param in exp.exact_columns],
         "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u,
                      "superseded": not abs(v) > 3.0 * s} for k, t, w, p, v, s, u in cal.accepted],
         "overall": {tag: ({"chi2": st.lof.chi2, "n": st.lof.n, "p": st.lof.p, "nu": st.lof.nu,
@@ -134,6 +135,9 @@ def build(cal) -> dict:
         "exchanges": [{"out": ex.out_key, "round": ex.round, "in": ex.in_key, "dbic": ex.dbic, "value": ex.phi,
                        "se": ex.se, "z": ex.z, "plausible": ex.plausible, "made": ex.made, "reasons": ex.reasons,
                        "netlist": str(ex.netlist) if ex.netlist else None} for ex in cal.exchanges],
+        "removals": [{"effect": t.key, "round": t.round, "check": t.check, "z": t.z, "dbic": t.dbic,
+                      "refitted": t.refitted, "removed": t.removed, "reasons": t.reasons,
+                      "netlist": str(t.netlist) if t.netlist else None} for t in cal.removals],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
     }
 
@@ -147,7 +151,11 @@ def markdown(cal, info: dict) -> str:
           + ("steady points" if data.kind == "steady" else "samples of a time series")
           + (f" in groups {', '.join(data.groups)}" if data.kind == "steady" and len(data.groups) > 1 else "") + ")",
           f"- imposed inputs: {', '.join(c.name for c in exp.inputs) or 'none'} (errors-in-variables: the true "
-          f"inputs are fitted as latent values); compared: {', '.join(c.name for c in exp.outputs)}", ""]
+          f"inputs are fitted as latent values); compared: {', '.join(c.name for c in exp.outputs)}"]
+    if exp.exact_columns:
+        L.append("- imposed exactly, read from the data by the netlist (their noise is not accounted for): "
+                 + ", ".join(f"{column} -> `{param}`" for column, param in exp.exact_columns))
+    L.append("")
     L += ["## Verdict", ""] + [f"- {v}" if not v.startswith("  ") else f"  - {v.strip()}" for v in cal.verdict] + [""]
     L += ["## Fit, before (declared model) and after (augmented model)", ""]
     ov = info["overall"]
@@ -271,6 +279,18 @@ def markdown(cal, info: dict) -> str:
             L.append(f"| {ex['out']} ({ex['round']}) | {ex['in']} | {_g(ex['value'])} | {_g(ex['se'], 2)} | "
                      f"{_g(ex['z'], 3)} | {_g(ex['dbic'], 4)} | {ex['plausible']} | {ex['made']} | "
                      f"{'; '.join(ex['reasons'])} |")
+        L.append("")
+    if info["removals"]:
+        L += ["## Elimination check", "",
+              "Each effect of the final model held to the tests it was accepted by, beside all the others: it stays "
+              "if taking it out raises BIC by over 10 and it is over 3 SE from zero (dBIC: the model without it "
+              "minus the model with it; not refitted: the Wald estimate z^2 - ln n, far above the bar). A removal "
+              "is followed by another pass over the effects left.", "",
+              "| pass | effect (round) | |value|/SE | dBIC without it | refitted | removed | why kept |",
+              "|---|---|---|---|---|---|---|"]
+        for t in info["removals"]:
+            L.append(f"| {t['check']} | {t['effect']} ({t['round']}) | {_g(t['z'], 3)} | {_g(t['dbic'], 4)} | "
+                     f"{t['refitted']} | {t['removed']} | {'; '.join(t['reasons'])} |")
         L.append("")
     L += ["## Plots", "", "![residuals](residuals.png)", "",
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "

@@ -12,9 +12,11 @@ Round k (k = 1, 2, 3):
    touched) with the effect as a real block or parameter, at its fitted value, and go on; else stop.
 After the last round the final model is refitted from the written file (so what is reported is what the
 file does). With two effects or more, the exchange check (:mod:`blocks.calibrate.exchange`) may then swap
-an early one for an alternative of its round that fits better beside the later ones. The verdict: the effects found, the ambiguities, and "unexplained discrepancy remains" when
-the final fit is still significantly worse than the noise (chi^2, block means, residual whiteness or drift;
-p < 0.01 for the family of tests, Bonferroni).
+an early one for an alternative of its round that fits better beside the later ones, and the elimination
+check (:mod:`blocks.calibrate.elimination`) takes out one that no longer earns its place beside the
+others (a later effect does its work). The verdict: the effects found, the ambiguities, and "unexplained
+discrepancy remains" when the final fit is still significantly worse than the noise (chi^2, block means,
+residual whiteness or drift; p < 0.01 for the family of tests, Bonferroni).
 """
 
 from __future__ import annotations
@@ -28,6 +30,7 @@ import yaml
 
 from blocks.calibrate.candidates import Context, registered
 from blocks.calibrate.data import Dataset, load_data
+from blocks.calibrate.elimination import Removal, try_removals
 from blocks.calibrate.exchange import Exchange, file_name, free_of, try_exchanges
 from blocks.calibrate.experiment import Experiment, Free, display_unit, load_experiment
 from blocks.calibrate.fit import FitResult, fit
@@ -77,6 +80,7 @@ class Calibration:
     accepted: list = field(default_factory=list)  # (key, title, where, param, value, se, unit)
     seconds: dict = field(default_factory=dict)
     exchanges: list[Exchange] = field(default_factory=list)  # the exchange check after the trace
+    removals: list[Removal] = field(default_factory=list)  # the elimination check after the exchange check
     simulations: int = 0  # settling runs and time-series runs
     equilibria: int = 0  # Newton solves of steady points
 
@@ -141,7 +145,8 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         cal.final = final
     else:
         cal.final = cal.rounds[-1].stage if cal.rounds else None
-    exchange(cal, globals_, with_heldout)
+    globals_ = exchange(cal, globals_, with_heldout)
+    eliminate(cal, globals_, with_heldout)
     # the effects as the final model has them (a later effect can move an earlier one's value)
     for k, (key, title, where, param, value, se, unit) in enumerate(cal.accepted):
         j = cal.final.model.layout.index(param)
@@ -166,9 +171,9 @@ def refuse_to_overwrite_inputs(exp: Experiment, out: Path) -> None:
                             f"writes into; give another folder (-o)")
 
 
-def exchange(cal: Calibration, globals_: list[Free], with_heldout: bool) -> None:
+def exchange(cal: Calibration, globals_: list[Free], with_heldout: bool) -> list[Free]:
     """The exchange check (blocks.calibrate.exchange); an exchange made becomes the final model, its
-    netlist and experiment file the written ones."""
+    netlist and experiment file the written ones. Returns the final model's free parameters."""
     t0 = time.perf_counter()
     cal.exchanges = try_exchanges(cal, globals_, lambda netlist, g, x, model: fit_stage(
         netlist, cal.exp, cal.data, g, x, model))
@@ -189,6 +194,44 @@ def exchange(cal: Calibration, globals_: list[Free], with_heldout: bool) -> None
         write_augmented_experiment(cal.exp, cal, made.netlist, made.globals_, made.stage, cal.out)
     if cal.exchanges:
         cal.seconds["exchange check"] = time.perf_counter() - t0
+    return made.globals_ if made is not None else globals_
+
+
+def final_effects(cal: Calibration) -> list:
+    """[(place, round)] of the final model's accepted effects, in round order (an exchanged-in effect in the
+    place of the one it replaced)."""
+    made = next((ex for ex in cal.exchanges if ex.made), None)
+    effects = []
+    for rnd in cal.rounds:
+        if rnd.decision.accepted is not None:
+            place = rnd.decision.accepted.score.place
+            effects.append((made.place if made is not None and place.key == made.out_key else place, rnd.index))
+    return effects
+
+
+def eliminate(cal: Calibration, globals_: list[Free], with_heldout: bool) -> None:
+    """The elimination check (blocks.calibrate.elimination); after a removal the model without the effect is
+    the final one, its netlist and experiment file the written ones."""
+    if cal.final is None:
+        return
+    t0 = time.perf_counter()
+    cal.removals = try_removals(cal.final, final_effects(cal), globals_, cal.exp.netlist, cal.out,
+                                lambda netlist, g, x, model: fit_stage(netlist, cal.exp, cal.data, g, x, model))
+    for test in cal.removals:
+        if test.stage is not None:
+            cal.simulations += test.stage.model.simulations
+            cal.equilibria += test.stage.model.equilibria
+    removed = [test for test in cal.removals if test.removed]
+    if removed:
+        last = removed[-1]
+        last.stage.heldout = heldout(last.stage.model, last.stage.fit, cal.exp.spec.heldout) if with_heldout \
+            else None
+        cal.final = last.stage
+        gone = {test.key for test in removed}
+        cal.accepted = [a for a in cal.accepted if a[0] not in gone]
+        write_augmented_experiment(cal.exp, cal, last.netlist, last.globals_, last.stage, cal.out)
+    if any(test.refitted for test in cal.removals):
+        cal.seconds["elimination check"] = time.perf_counter() - t0
 
 
 def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
@@ -326,8 +369,9 @@ def _carry(res: FitResult, model: Model, smodel: Model) -> FitResult:
 
 
 def verdict(cal: Calibration) -> tuple[list[str], bool]:
-    """The report's verdict lines and whether a discrepancy remains unexplained. An accepted effect that the
-    final fit no longer holds over 3 SE from zero (a later effect explains what it did) is "superseded", not
+    """The report's verdict lines and whether a discrepancy remains unexplained. An effect removed by the
+    elimination check is "removed"; one the final fit no longer holds over 3 SE from zero that the check
+    could not take out (the last one, or a model that cannot be built without it) is "superseded", not
     "found"; it stays in the augmented netlist, where its fitted value is what the final fit says."""
     lines = []
     for key, title, where, param, value, se, unit in cal.accepted:
@@ -342,6 +386,11 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines.append(f"exchanged: {ex.out_key} (accepted in round {ex.round}) for {ex.in_key}, which fits better "
                          f"beside the effects found after it (BIC lower by {-ex.dbic:.3g})"
                          + ("; by less than 10: ambiguous between the two" if ex.ambiguous else ""))
+    for test in cal.removals:
+        if test.removed:
+            lines.append(f"removed: {test.key} (accepted in round {test.round}): beside the other effects it is "
+                         f"{test.z:.2g} SE from zero and taking it out changes BIC by {test.dbic:+.3g} (an effect "
+                         f"is kept only over 3 SE and over +10)")
     for rnd in cal.rounds:
         if rnd.decision.ambiguous:
             best = rnd.decision.accepted or next((r for r in rnd.decision.refits if r.passes_fit_tests), None)
@@ -358,6 +407,12 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
         if reasons:
             unexplained = True
             lines.append("unexplained discrepancy remains: " + "; ".join(reasons))
+            exact = cal.exp.exact_columns
+            if exact:
+                lines.append("  the netlist imposes " + ", ".join(f"the column {c} ({p})" for c, p in exact)
+                             + " exactly as read from the data: its measurement noise is not accounted for, passes "
+                               "into the outputs and can be what remains (an input listed under inputs: with latent "
+                               "levels is fitted with its noise)")
         elif not cal.accepted:
             lines.append("no effect found: the declared model fits to the noise")
         else:

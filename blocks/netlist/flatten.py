@@ -309,7 +309,7 @@ class _Builder:
     def _array_entry(self, entry_name, raw, param, located: Located, path: tuple, name: str, scope) -> Entry:
         if isinstance(raw, spec.CsvColumn):
             values = read_csv_column(Path(located.file).parent / raw.csv, raw.column, param.unit, located, path)
-            return Entry(entry_name, param.unit, values, None, scope, located, path, param)
+            return Entry(entry_name, param.unit, values, None, scope, located, path, param, raw=raw)
         if not isinstance(raw, list) or not raw:
             raise located.error(path, f"{name}: {param.name} takes a non-empty list of values or {{csv:, column:}}")
         return make_array_entry(entry_name, raw, param.unit, scope, located, path, param)

@@ -18,6 +18,7 @@ import pytest
 import yaml
 
 import cli
+from blocks.calibrate.report import build, markdown
 from blocks.calibrate.run import calibrate
 from blocks.circuit import Circuit
 
@@ -199,3 +200,32 @@ def test_an_early_stand_in_is_exchanged_for_the_effect_it_stood_in_for(tmp_path)
     written = yaml.safe_load((tmp_path / "out" / "experiment_augmented.yaml").read_text())
     assert set(written["corrections"]["p1"]) == {"offset"}  # the gain is gone from what is written
     assert Path(tmp_path / "out" / written["netlist"]).resolve() == made.netlist.resolve()
+
+
+def test_a_stand_in_that_the_later_effects_leave_at_zero_is_removed(tmp_path):
+    """Two effects planted (a spool flow force and a p1 sensor offset, 21 points; the data file says how they
+    were made). Round 1 takes a p1 gain, round 2 the flow force, round 3 the offset; beside those two the
+    gain is left at a fraction of its SE, and no alternative of round 1 fits better in its place (no
+    exchange). The elimination check takes the gain out, and the final model is the planted one."""
+    spec = yaml.safe_load((ROOT / "netlists" / "experiments" / "relief_rig_steady.yaml").read_text())
+    spec.update({"netlist": str(RIG), "data": str(Path(__file__).parent / "data" / "relief_stand_in.csv"),
+                 "trace": {"only": ["sensor_gain", "sensor_offset", "flow_force"]}})
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out")
+    assert [r.decision.accepted.score.place.key for r in cal.rounds] == \
+        ["sensor_gain@p1", "flow_force@relief", "sensor_offset@p1"]  # the premise: a stand-in first
+    assert not any(ex.made for ex in cal.exchanges)
+    (removed,) = [t for t in cal.removals if t.removed]
+    assert removed.key == "sensor_gain@p1" and removed.z < 1 and removed.dbic < 0
+    assert removed.stage is cal.final and not cal.unexplained
+    final = {key: (value, se) for key, _t, _w, _p, value, se, _u in cal.accepted}
+    assert set(final) == {"sensor_offset@p1", "flow_force@relief"}
+    for key, planted in (("sensor_offset@p1", 1.276e5), ("flow_force@relief", 0.281)):
+        assert abs(final[key][0] - planted) < 3 * final[key][1], (key, final[key])
+    assert any(line.startswith("removed: sensor_gain@p1 (accepted in round 1)") for line in cal.verdict)
+    assert not any(line.startswith("superseded") for line in cal.verdict)
+    written = yaml.safe_load((tmp_path / "out" / "experiment_augmented.yaml").read_text())
+    assert set(written["corrections"]["p1"]) == {"offset"}  # the gain is gone from what is written
+    assert Path(tmp_path / "out" / written["netlist"]).resolve() == removed.netlist.resolve()
+    table = markdown(cal, build(cal)).split("## Elimination check")[1].split("##")[0]
+    assert "| 1 | sensor_gain@p1 (1) |" in table and "| True | True |  |" in table

@@ -109,7 +109,7 @@ def test_an_effect_the_final_fit_drives_to_zero_is_superseded_not_found():
 
     from blocks.calibrate.run import verdict
 
-    cal = SimpleNamespace(rounds=[], final=None, exchanges=[], accepted=[
+    cal = SimpleNamespace(rounds=[], final=None, exchanges=[], removals=[], accepted=[
         ("leakage@P1-T", "internal leakage", "P1 to T", "cal_gl_P1_T", 1e-28, 2.8e-12, "m^3/(s*Pa)"),
         ("leakage@R-V", "internal leakage", "R to V", "cal_gl_R_V", 1.7e-11, 4.2e-12, "m^3/(s*Pa)")])
     lines, unexplained = verdict(cal)
@@ -124,11 +124,11 @@ def test_a_final_fit_that_did_not_converge_is_in_the_verdict():
     from blocks.calibrate.run import verdict
 
     final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60), lof=SimpleNamespace(significant=lambda: []))
-    lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], accepted=[]))
+    lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
     assert lines[0] == "the final fit stopped at its limit of 60 evaluations before converging: its values may " \
                        "not be the best fit"
     final.fit.converged = True
-    lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], accepted=[]))
+    lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
     assert lines == ["no effect found: the declared model fits to the noise"]
 
 
