@@ -110,6 +110,17 @@ def page(info: dict, thesis: dict[str, float], measured_inputs: dict[str, dict[s
                  else f"no exchange; the {len(exchanges)} tried ("
                       + ", ".join(f"{e['out']} -> {e['in']}" for e in exchanges) + ") fit worse by "
                       + f"{min(e['dbic'] for e in exchanges):.3g} to {max(e['dbic'] for e in exchanges):.3g} in BIC.")]
+    removals = info.get("removals", [])
+    if removals:
+        gone = [t for t in removals if t["removed"]]
+        first = [t for t in removals if t["check"] == 1]
+        L += ["", "Elimination check (each effect of the final model held, beside the others, to the tests it was "
+                  "accepted by: over 3 SE, and BIC over 10 lower with it): "
+              + ("removed " + ", ".join(f"{t['effect']} ({t['z']:.2g} SE; BIC {t['dbic']:+.3g} without it)"
+                                       for t in gone) + "." if gone
+                 else "every effect stays; " + ", ".join(f"{t['effect']} at {t['z']:.3g} SE" for t in first)
+                 + (" (far above the bar: not refitted without it)" if not any(t["refitted"] for t in first)
+                    else "") + ".")]
     L += ["", "Final values (all refitted together in the augmented model):", "",
           "| effect | where | parameter | value | SE | unit |", "|---|---|---|---|---|---|"]
     for e in info["effects"]:
