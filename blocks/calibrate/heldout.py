@@ -14,6 +14,12 @@ Schemes (``heldout:`` of the experiment):
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
 result).
 
+Each fold's refit runs to convergence: it is given ``max_nfev`` evaluations and, when it stops at that
+limit, continued from where it stopped, up to ``attempts`` times in all. A fold still not converged then is
+named in the result (``unconverged``): a refit cut short predicts worse than the model can, and its error
+would count against the model (leave-one-group-out on the relief rig: one fold's refit of a 4-parameter
+model stopped at 20 evaluations with a held-out error of 12.7 where the converged refit gives 0.72).
+
 The held-out error is the mean of the squared normalised residuals of the held-out output rows (1 for a
 model that predicts to the noise); per output channel the same mean (chi^2/n: a prediction fits nothing, so
 n, not nu) and the RMSE in SI.
@@ -37,6 +43,7 @@ class HeldOut:
     n: int
     folds: list = field(default_factory=list)  # (name, n rows, error)
     chi2n: dict = field(default_factory=dict)  # output channel -> mean squared normalised residual
+    unconverged: list = field(default_factory=list)  # folds whose refit stopped at its limit
 
 
 def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
@@ -69,12 +76,12 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
     return f"{k} contiguous blocks of the time series{note}", [(f"block {i + 1}", p) for i, p in enumerate(parts)]
 
 
-def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20) -> HeldOut:
+def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: int = 5) -> HeldOut:
     scheme, folds = make_folds(model, spec)
     outputs = model.output_rows()
     errors = np.zeros(model.n_rows)
     held_rows = np.zeros(model.n_rows, dtype=bool)
-    per_fold = []
+    per_fold, unconverged = [], []
     for name, idx in folds:
         fold_rows = model.rows_of_points(idx)
         x0 = res.x.copy()
@@ -89,6 +96,12 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20) -> HeldOut:
         else:
             train = res.rows & ~(fold_rows & outputs)
         f = fit(model, x0, active, train, max_nfev=max_nfev)
+        for _ in range(attempts - 1):
+            if f.converged:
+                break
+            f = fit(model, f.x, active, train, max_nfev=max_nfev)
+        if not f.converged:
+            unconverged.append(name)
         x_pred = f.x.copy()
         if model.data.kind == "steady":
             r = model.residuals(x_pred, idx)
@@ -107,4 +120,4 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20) -> HeldOut:
             rmse[ch.name] = float(np.sqrt(np.mean((errors[sel] * model.sigma[ci]) ** 2)))
             chi2n[ch.name] = float(np.mean(errors[sel] ** 2))
     err = float(np.mean(errors[held_rows] ** 2)) if held_rows.any() else float("nan")
-    return HeldOut(scheme, err, rmse, int(held_rows.sum()), per_fold, chi2n)
+    return HeldOut(scheme, err, rmse, int(held_rows.sum()), per_fold, chi2n, unconverged)

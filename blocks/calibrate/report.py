@@ -114,6 +114,7 @@ def build(cal) -> dict:
                            "chi2_nu": st.lof.reduced, "p_value": st.lof.p_value, "bic": st.fit.bic(),
                            "heldout_error": st.heldout.error if st.heldout else None,
                            "heldout_scheme": st.heldout.scheme if st.heldout else None,
+                           "heldout_unconverged_folds": st.heldout.unconverged if st.heldout else [],
                            "unsettled_points": st.fit.unsettled, "failed_runs": st.fit.failures[:5],
                            "lengthened_runs": {str(k + 1): t for k, t in sorted(st.model.run_end.items())},
                            "fit_evaluations": st.fit.nfev, "fit_converged": st.fit.converged,
@@ -164,7 +165,9 @@ def markdown(cal, info: dict) -> str:
         if o:
             L.append(f"- {tag}: chi^2 = {_g(o['chi2'])} on nu = {o['nu']} (chi^2/nu = {_g(o['chi2_nu'], 3)}, "
                      f"p = {_g(o['p_value'], 2)}), BIC = {_g(o['bic'], 6)}, held-out error "
-                     f"{_g(o['heldout_error'], 3)} ({o['heldout_scheme']}); unsettled points: "
+                     f"{_g(o['heldout_error'], 3)} ({o['heldout_scheme']}"
+                     + (f"; folds whose refit did not converge: {', '.join(o['heldout_unconverged_folds'])}"
+                        if o["heldout_unconverged_folds"] else "") + "); unsettled points: "
                      f"{o['unsettled_points']}" + _lengthened(o['lengthened_runs'])
                      + ("" if o["fit_converged"] else f"; the fit stopped at its limit of {o['fit_evaluations']} "
                                                       f"evaluations before converging"))
