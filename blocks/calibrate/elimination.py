@@ -32,8 +32,8 @@ from pathlib import Path
 
 import numpy as np
 
-from blocks.calibrate.exchange import file_name, rebuild
-from blocks.calibrate.selection import DBIC_MAX, Z_MIN
+from blocks.calibrate.exchange import file_name, rebuild, value_in
+from blocks.calibrate.selection import DBIC_MAX, Z_MIN, z_score
 
 WALD_FACTOR = 4.0  # z^2 above this many times the bar (10 + ln n): the effect stays without a refit
 
@@ -67,16 +67,15 @@ def try_removals(final, effects: list, globals_: list, declared: Path, out: Path
         bar = -DBIC_MAX
         this_pass = []
         for place, rnd in effects:
-            j = current.model.layout.index(place.param)
-            phi, se = float(current.fit.x[j]), float(current.fit.se[j])
-            z = abs(phi - place.zero) / se if se > 0 and np.isfinite(se) else 0.0
+            se = float(current.fit.se[current.model.layout.index(place.param)])
+            z = z_score(value_in(current, place.param), place.zero, se)
             if z * z > WALD_FACTOR * (bar + ln_n):
                 this_pass.append(Removal(place.key, rnd, check, z, z * z - ln_n, False,
                                          reasons=[f"{z:.3g} SE from zero: removing it would raise BIC by about "
                                                   f"{z * z - ln_n:.3g} (not refitted)"]))
                 continue
             rest = [p for p, _ in effects if p is not place]
-            values = {p.param: float(current.fit.x[current.model.layout.index(p.param)]) for p in rest}
+            values = {p.param: value_in(current, p.param) for p in rest}
             netlist = out / "elimination" / f"pass{check}_without_{file_name(place.key)}.yaml"
             try:
                 rebuild(declared, rest, values, netlist,

@@ -33,7 +33,7 @@ import numpy as np
 from blocks.calibrate.candidates import registered
 from blocks.calibrate.experiment import Free
 from blocks.calibrate.patch import NetlistDoc
-from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN
+from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN, z_score
 
 MARGIN = 1.0  # an exchange must lower BIC by more than this
 
@@ -82,7 +82,7 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
             if alt is out or not alt.passes_fit_tests or key in taken:
                 continue
             places = [(r.decision.accepted.score.place if r is not rnd else alt.score.place) for r in accepting]
-            values = {p.param: _final_value(final, p.param) for p in places if p is not alt.score.place}
+            values = {p.param: value_in(final, p.param) for p in places if p is not alt.score.place}
             values[alt.score.place.param] = alt.phi
             netlist = cal.out / "exchange" / f"{file_name(out.score.place.key)}--{file_name(key)}.yaml"
             try:
@@ -100,7 +100,7 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
             j = stage.model.layout.index(alt.score.place.param)
             lo, hi = alt.score.place.plausible
             phi, se = float(stage.fit.x[j]), float(stage.fit.se[j])
-            z = abs(phi - alt.score.place.zero) / se if se > 0 and np.isfinite(se) else 0.0
+            z = z_score(phi, alt.score.place.zero, se)
             ex = Exchange(out.score.place.key, rnd.index, key, float(stage.fit.bic() - final.fit.bic()), phi, se,
                           z, bool(lo <= phi <= hi), alt.score.place, stage, netlist, new_globals)
             if not ex.dbic < -MARGIN:
@@ -120,8 +120,9 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
     return tried
 
 
-def _final_value(final, param: str) -> float:
-    return float(final.fit.x[final.model.layout.index(param)])
+def value_in(stage, param: str) -> float:
+    """A fitted stage's value of ``param`` (SI)."""
+    return float(stage.fit.x[stage.model.layout.index(param)])
 
 
 def rebuild(declared: Path, places, values: dict, target: Path, header: str) -> Path:

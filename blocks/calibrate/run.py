@@ -138,15 +138,22 @@ def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: in
         # the last trace accepted an effect: fit the written augmented model once more (no trace after it)
         t0 = time.perf_counter()
         final = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
-        final.heldout = heldout(final.model, final.fit, exp.spec.heldout) if with_heldout else None
         cal.simulations += final.model.simulations
         cal.equilibria += final.model.equilibria
         cal.seconds["final fit"] = time.perf_counter() - t0
         cal.final = final
     else:
         cal.final = cal.rounds[-1].stage if cal.rounds else None
-    globals_ = exchange(cal, globals_, with_heldout)
-    eliminate(cal, globals_, with_heldout)
+    globals_ = exchange(cal, globals_)
+    eliminate(cal, globals_)
+    if with_heldout and cal.final is not None and cal.final.heldout is None:
+        # once, for the model that ended final (the final fit's, or a check's that replaced it)
+        t0 = time.perf_counter()
+        runs, solves = cal.final.model.simulations, cal.final.model.equilibria
+        cal.final.heldout = heldout(cal.final.model, cal.final.fit, exp.spec.heldout)
+        cal.simulations += cal.final.model.simulations - runs
+        cal.equilibria += cal.final.model.equilibria - solves
+        cal.seconds["held-out of the final model"] = time.perf_counter() - t0
     # the effects as the final model has them (a later effect can move an earlier one's value)
     for k, (key, title, where, param, value, se, unit) in enumerate(cal.accepted):
         j = cal.final.model.layout.index(param)
@@ -171,27 +178,19 @@ def refuse_to_overwrite_inputs(exp: Experiment, out: Path) -> None:
                             f"writes into; give another folder (-o)")
 
 
-def exchange(cal: Calibration, globals_: list[Free], with_heldout: bool) -> list[Free]:
+def exchange(cal: Calibration, globals_: list[Free]) -> list[Free]:
     """The exchange check (blocks.calibrate.exchange); an exchange made becomes the final model, its
     netlist and experiment file the written ones. Returns the final model's free parameters."""
     t0 = time.perf_counter()
-    cal.exchanges = try_exchanges(cal, globals_, lambda netlist, g, x, model: fit_stage(
-        netlist, cal.exp, cal.data, g, x, model))
+    cal.exchanges = try_exchanges(cal, globals_, _refitter(cal))
+    _count_runs(cal, [ex.stage for ex in cal.exchanges])
     made = next((ex for ex in cal.exchanges if ex.made), None)
     if made is not None:
-        made.stage.heldout = heldout(made.stage.model, made.stage.fit, cal.exp.spec.heldout) if with_heldout \
-            else None
-    for ex in cal.exchanges:
-        if ex.stage is not None:
-            cal.simulations += ex.stage.model.simulations
-            cal.equilibria += ex.stage.model.equilibria
-    if made is not None:
-        cal.final = made.stage
         place = made.place
         k = next(i for i, a in enumerate(cal.accepted) if a[0] == made.out_key)
         cal.accepted[k] = (place.key, registered()[place.candidate].title, place.where, place.param, made.phi,
                            made.se, place.unit)
-        write_augmented_experiment(cal.exp, cal, made.netlist, made.globals_, made.stage, cal.out)
+        _adopt(cal, made.stage, made.netlist, made.globals_)
     if cal.exchanges:
         cal.seconds["exchange check"] = time.perf_counter() - t0
     return made.globals_ if made is not None else globals_
@@ -209,29 +208,40 @@ def final_effects(cal: Calibration) -> list:
     return effects
 
 
-def eliminate(cal: Calibration, globals_: list[Free], with_heldout: bool) -> None:
+def eliminate(cal: Calibration, globals_: list[Free]) -> None:
     """The elimination check (blocks.calibrate.elimination); after a removal the model without the effect is
     the final one, its netlist and experiment file the written ones."""
     if cal.final is None:
         return
     t0 = time.perf_counter()
-    cal.removals = try_removals(cal.final, final_effects(cal), globals_, cal.exp.netlist, cal.out,
-                                lambda netlist, g, x, model: fit_stage(netlist, cal.exp, cal.data, g, x, model))
-    for test in cal.removals:
-        if test.stage is not None:
-            cal.simulations += test.stage.model.simulations
-            cal.equilibria += test.stage.model.equilibria
+    cal.removals = try_removals(cal.final, final_effects(cal), globals_, cal.exp.netlist, cal.out, _refitter(cal))
+    _count_runs(cal, [test.stage for test in cal.removals])
     removed = [test for test in cal.removals if test.removed]
     if removed:
-        last = removed[-1]
-        last.stage.heldout = heldout(last.stage.model, last.stage.fit, cal.exp.spec.heldout) if with_heldout \
-            else None
-        cal.final = last.stage
         gone = {test.key for test in removed}
         cal.accepted = [a for a in cal.accepted if a[0] not in gone]
-        write_augmented_experiment(cal.exp, cal, last.netlist, last.globals_, last.stage, cal.out)
+        _adopt(cal, removed[-1].stage, removed[-1].netlist, removed[-1].globals_)
     if any(test.refitted for test in cal.removals):
         cal.seconds["elimination check"] = time.perf_counter() - t0
+
+
+def _refitter(cal: Calibration):
+    """fit_stage(netlist, globals_, x_prev, prev_model) on the calibration's experiment and data."""
+    return lambda netlist, g, x, model: fit_stage(netlist, cal.exp, cal.data, g, x, model)
+
+
+def _count_runs(cal: Calibration, stages) -> None:
+    for stage in stages:
+        if stage is not None:
+            cal.simulations += stage.model.simulations
+            cal.equilibria += stage.model.equilibria
+
+
+def _adopt(cal: Calibration, stage: Stage, netlist: Path, globals_: list[Free]) -> None:
+    """A check's model becomes the final one: its netlist and experiment file are the written ones (its
+    held-out error is computed once the checks are done, for the model that ends final)."""
+    cal.final = stage
+    write_augmented_experiment(cal.exp, cal, netlist, globals_, stage, cal.out)
 
 
 def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:

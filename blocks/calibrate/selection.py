@@ -38,6 +38,11 @@ PARALLEL = 0.99
 REFIT_EVALUATIONS = 40  # per attempt; a refit that stops at this limit gets one more attempt
 
 
+def z_score(phi: float, zero: float, se: float) -> float:
+    """How many standard errors an effect's parameter lies from its zero (0 when the SE is not usable)."""
+    return abs(phi - zero) / se if se > 0 and np.isfinite(se) else 0.0
+
+
 @dataclass
 class Refit:
     score: Score
@@ -54,7 +59,7 @@ class Refit:
 
     @property
     def z(self) -> float:
-        return abs(self.phi - self.score.place.zero) / self.se if self.se > 0 and np.isfinite(self.se) else 0.0
+        return z_score(self.phi, self.score.place.zero, self.se)
 
     @property
     def passes_fit_tests(self) -> bool:
