@@ -10,7 +10,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     repeats: point                       # a column marking repeated points (optional; for noise: repeats)
     inputs:                              # measured columns imposed on the circuit
       Q: {parameter: Q_in, noise: "0.5 l/min"}          # steady: the parameter each point sets
-      # time series: cmd: {signal: cmd, latent: [u1, u2, u3], noise: 0.005}
+      # time series: cmd: {signal: cmd, latent: [u1, u2, u3], noise: 0.005}   (the profile's levels)
+      #          or: cmd: {signal: cmd, latent: trace, noise: 0.005}  (the recording, read by the netlist)
     outputs:                             # measured columns compared with logged signals
       p1: {signal: p1, noise: "0.2 bar"}
       p3: {signal: p3, noise: repeats}   # noise given, or estimated: repeats (steady) / diff (time series)
@@ -37,8 +38,11 @@ input is latent in both cases (errors-in-variables, :mod:`blocks.calibrate.model
 
 A recorded input trace can instead be imposed by the netlist itself: a ``profile`` block whose times and
 values read the data file's columns (``times: {csv: data.csv, column: t}``, ``values: {csv: data.csv,
-column: cmd}``). Such a column is imposed exactly, its measurement noise not accounted for; the report names
-it (:func:`read_by_netlist`), and the verdict does when a discrepancy remains.
+column: cmd}``). Listed under ``inputs:`` with ``latent: trace`` (``cmd: {signal: cmd, latent: trace,
+noise: 0.005}``), the recording is a noisy reading of a latent linear spline whose knots are fitted
+(:mod:`blocks.calibrate.latent_trace`; the profile's breakpoints are replaced by the knots). Not listed,
+such a column is imposed exactly, its measurement noise not accounted for; the report names it
+(:func:`read_by_netlist`), and the verdict does when a discrepancy remains.
 """
 
 from __future__ import annotations
@@ -64,7 +68,7 @@ class _Strict(BaseModel):
 class ChannelSpec(_Strict):
     signal: str | None = None
     parameter: str | None = None
-    latent: list[str] = Field(default_factory=list)
+    latent: Union[list[str], str] = Field(default_factory=list)  # level parameters, or "trace"
     noise: Value
 
 
@@ -140,6 +144,7 @@ class Channel:
     noise_method: str  # "given", "repeats" or "diff"
     unit: str = ""  # the data column's unit (for reports)
     si_unit: str = ""
+    trace: str | None = None  # latent: trace: the profile's values parameter that reads this column
 
 
 @dataclass
@@ -152,7 +157,8 @@ class Free:
     upper: float
     step: float
     unit: str  # display unit
-    kind: str = "declared"  # declared, latent, candidate, correction
+    kind: str = "declared"  # declared, latent, trace, candidate, correction
+    at: float | None = None  # a latent trace's knot value (kind "trace"): the knot's start time, s
 
 
 @dataclass
@@ -278,7 +284,15 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                                     + (f"; did you mean {', '.join(hint)}?" if hint else ""))
             if ch.parameter is not None:
                 param_name(ch.parameter, path + ("parameter",))
-            for k, lat in enumerate(ch.latent):
+            if isinstance(ch.latent, str) and ch.latent != "trace":
+                raise located.error(path + ("latent",), f"{role}s.{name}.latent: '{ch.latent}' is not a latent "
+                                    f"input: give the netlist parameters of its levels (e.g. [u1, u2]) or 'trace' "
+                                    f"(the recorded column, read by the netlist, fitted as a latent spline)")
+            if ch.latent == "trace" and ch.parameter is not None:
+                raise located.error(path + ("latent",), f"{role}s.{name}.latent: 'trace' is for the recorded input "
+                                    f"of a time series (given by 'signal'), not a steady point's 'parameter'")
+            levels = [] if isinstance(ch.latent, str) else list(ch.latent)
+            for k, lat in enumerate(levels):
                 param_name(lat, path + ("latent", k))
             if role == "output" and (ch.parameter or ch.latent):
                 raise located.error(path, f"outputs.{name}: an output takes 'signal' and 'noise' only")
@@ -297,8 +311,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                     raise located.error(path + ("noise",), f"{role}s.{name}.noise: {exc}") from None
                 if not noise > 0:
                     raise located.error(path + ("noise",), f"{role}s.{name}.noise must be positive")
-            channels.append(Channel(name, role, ch.signal, ch.parameter, list(ch.latent), noise, method,
-                                    si_unit=si_unit))
+            channels.append(Channel(name, role, ch.signal, ch.parameter, levels, noise, method, si_unit=si_unit))
     if not any(c.role == "output" for c in channels):
         raise located.error(("outputs",), "outputs: at least one compared column is needed")
 
@@ -374,8 +387,33 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 "gain": float(quantity(corr.get("gain", 0.0), "1"))}
         except UnitError as exc:
             raise located.error(("corrections", ch_name), f"corrections.{ch_name}: {exc}") from None
+    exact = read_by_netlist(circuit, data_files)
+    for ch in channels:
+        if spec.inputs.get(ch.name) is not None and ch.role == "input" and spec.inputs[ch.name].latent == "trace":
+            ch.trace = trace_parameter(circuit, exact, ch.name, located, spec.netlist)
+    exact = [(column, param) for column, param in exact if param not in {c.trace for c in channels}]
     return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files,
-                      read_by_netlist(circuit, data_files))
+                      exact)
+
+
+def trace_parameter(circuit, exact: list[tuple[str, str]], column: str, located: Located, netlist: str) -> str:
+    """The ``values`` parameter of the profile block that reads the data column of a ``latent: trace`` input
+    (:mod:`blocks.calibrate.latent_trace`); an error at the input if the netlist reads it nowhere else."""
+    from blocks.library.signal.profile import Profile
+
+    path = ("inputs", column, "latent")
+    readers = [param for col, param in exact if col == column]
+    profiles = [p for p in readers if p.endswith(".values")
+                and circuit.flat.components.get(p.rsplit(".", 1)[0]) is not None
+                and circuit.flat.components[p.rsplit(".", 1)[0]].cls is Profile]
+    if not readers:
+        raise located.error(path, f"inputs.{column}.latent: 'trace' fits the recorded column {column} as a latent "
+                            f"spline, so {netlist} must impose it by reading it from the data file (a profile "
+                            f"block with values: {{csv: <data file>, column: {column}}}); it reads no such column")
+    if len(profiles) != 1 or len(readers) != 1:
+        raise located.error(path, f"inputs.{column}.latent: 'trace' needs the column {column} read by one profile "
+                            f"block's values in {netlist}; it is read by {', '.join(readers)}")
+    return profiles[0]
 
 
 def read_by_netlist(circuit, data_files: list[Path]) -> list[tuple[str, str]]:

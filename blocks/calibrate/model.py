@@ -6,7 +6,10 @@ The parameter vector
 --------------------
 x = [globals..., latent inputs of the steady points]. Globals are the declared free parameters, accepted
 or screened candidate parameters, sensor corrections (``offset:<channel>``, ``gain:<channel>``) and, for a
-time series, the latent levels of the imposed input (netlist parameters of its command profile). Steady
+time series, the latent levels of the imposed input (netlist parameters of its command profile) or the
+knots of its latent trace (``latent: trace``: the profile that reads the recorded column gets, in place
+of the recording, the knots' times and values as its breakpoints; see :mod:`blocks.calibrate.latent_trace`).
+Steady
 points carry one latent value per imposed input and point: the true input, of which the measured column is
 a noisy reading (errors-in-variables).
 
@@ -136,6 +139,7 @@ class Model:
         self.measured = np.concatenate([data.measured[c.name] for c in self.channels])
         self.row_sigma = np.repeat(self.sigma, n)
         self.signal_index = {o.name: k for k, o in enumerate(circuit.outputs)}
+        self.traces = self._traces(globals_)
         self._cache: dict = {}
         self.unsettled: set[int] = set()
         self.run_end: dict[int, float] = {}  # steady point -> the end time of its lengthened settling run
@@ -187,11 +191,38 @@ class Model:
         return roles[self.row_channel]
 
     # ---- overrides and simulation ---------------------------------------------------------------------
+    def _traces(self, globals_: list[Free]) -> dict:
+        """Latent traces: profile -> (x indices of its knot values, of its knot times (-1: fixed), the fixed
+        times, the length of the profile's arrays), for :meth:`_net_overrides`."""
+        knots: dict = {}
+        for k, f in enumerate(globals_):
+            if f.kind in ("trace", "trace_time"):
+                param, label = f.name.split("[", 1)
+                entry = knots.setdefault(param.rsplit(".", 1)[0], {}).setdefault(label, [-1, -1, f.at])
+                entry[0 if f.kind == "trace" else 1] = k
+        if not knots:
+            return {}
+        values = self.circuit.flat.parameters.evaluate(self.fixed)
+        out = {}
+        for profile, members in knots.items():
+            table = np.array([(v, t, np.nan if at is None else at) for v, t, at in members.values()])
+            out[profile] = (table[:, 0].astype(int), table[:, 1].astype(int), table[:, 2],
+                            len(values[f"{profile}.times"]))
+        return out
+
     def _net_overrides(self, x: np.ndarray) -> dict:
         over = dict(self.fixed)
         for k, f in enumerate(self.layout.globals):
-            if f.kind != "correction":
+            if f.kind not in ("correction", "trace", "trace_time"):
                 over[f.name] = float(x[k])
+        for profile, (value_index, time_index, fixed_times, length) in self.traces.items():
+            # the spline's knots as the profile's breakpoints; the arrays keep their length, so the rest of
+            # the breakpoints hold the last value beyond the knots (1 s apart)
+            times = np.where(time_index >= 0, x[np.maximum(time_index, 0)], fixed_times)
+            values = x[value_index]
+            beyond = np.arange(1.0, length - len(times) + 1.0)
+            over[f"{profile}.times"] = tuple(np.concatenate([times, times[-1] + beyond]))
+            over[f"{profile}.values"] = tuple(np.concatenate([values, np.full(beyond.size, values[-1])]))
         return over
 
     def _corrections(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -100,6 +100,21 @@ def refit_rows(rnd) -> list[dict]:
             for r in rnd.decision.refits]
 
 
+def latent_traces(cal) -> list[dict]:
+    """Per ``latent: trace`` input: its profile and the final knots (time s, value SI), in time order."""
+    out = []
+    model, x = cal.final.model, cal.final.fit.x
+    for ch in cal.exp.inputs:
+        if ch.trace is None:
+            continue
+        profile = ch.trace.rsplit(".", 1)[0]
+        value_index, time_index, fixed_times, _ = model.traces[profile]
+        times = np.where(time_index >= 0, x[np.maximum(time_index, 0)], fixed_times)
+        out.append({"column": ch.name, "profile": profile, "knots": [[float(t), float(v)] for t, v in
+                                                                     zip(times, x[value_index])]})
+    return out
+
+
 def build(cal) -> dict:
     exp, data = cal.exp, cal.data
     return {
@@ -108,6 +123,7 @@ def build(cal) -> dict:
         "kind": data.kind, "points": data.n, "groups": list(data.groups),
         "verdict": cal.verdict, "unexplained_discrepancy": cal.unexplained,
         "imposed_exactly": [{"column": column, "parameter": param} for column, param in exp.exact_columns],
+        "latent_traces": latent_traces(cal),
         "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u,
                      "superseded": not abs(v) > 3.0 * s} for k, t, w, p, v, s, u in cal.accepted],
         "overall": {tag: ({"chi2": st.lof.chi2, "n": st.lof.n, "p": st.lof.p, "nu": st.lof.nu,
@@ -153,6 +169,11 @@ def markdown(cal, info: dict) -> str:
           + (f" in groups {', '.join(data.groups)}" if data.kind == "steady" and len(data.groups) > 1 else "") + ")",
           f"- imposed inputs: {', '.join(c.name for c in exp.inputs) or 'none'} (errors-in-variables: the true "
           f"inputs are fitted as latent values); compared: {', '.join(c.name for c in exp.outputs)}"]
+    for tr in info["latent_traces"]:
+        L.append(f"- latent trace of {tr['column']}: the recording is taken as a noisy reading of a linear spline "
+                 f"through {len(tr['knots'])} knots, chosen from the recording, their times and values fitted "
+                 f"(`{tr['profile']}.times[knot j]`, `{tr['profile']}.values[knot j]` under Parameters); knots "
+                 f"at t = {', '.join(f'{t:.4g}' for t, _ in tr['knots'])} s")
     if exp.exact_columns:
         L.append("- imposed exactly, read from the data by the netlist (their noise is not accounted for): "
                  + ", ".join(f"{column} -> `{param}`" for column, param in exp.exact_columns))

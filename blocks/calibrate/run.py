@@ -35,6 +35,7 @@ from blocks.calibrate.exchange import Exchange, file_name, free_of, try_exchange
 from blocks.calibrate.experiment import Experiment, Free, display_unit, load_experiment
 from blocks.calibrate.fit import FitResult, fit
 from blocks.calibrate.heldout import HeldOut, heldout
+from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.model import Model
 from blocks.calibrate.patch import NetlistDoc
 from blocks.calibrate.screening import Score, screen
@@ -245,7 +246,9 @@ def _adopt(cal: Calibration, stage: Stage, netlist: Path, globals_: list[Free]) 
 
 
 def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
-    """The latent levels of time-series inputs (netlist parameters of the command profile) as free globals."""
+    """The latent values of time-series inputs as free globals: the levels of a command profile (netlist
+    parameters), or the knots of a recorded trace (``latent: trace``, :mod:`blocks.calibrate.latent_trace`;
+    an error naming the input if the recording needs too many)."""
     out = []
     if data.kind != "time":
         return out
@@ -254,10 +257,42 @@ def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
     circuit = Circuit.from_file(exp.netlist, compile=False)
     values = circuit.flat.parameters.evaluate({})
     for ch in exp.inputs:
+        sigma = data.sigma[ch.name]
         for name in ch.latent:
-            v = float(values[name])
-            out.append(Free(name, v, -np.inf, np.inf, 0.1 * data.sigma[ch.name],
+            out.append(Free(name, float(values[name]), -np.inf, np.inf, 0.1 * sigma,
                             display_unit(circuit.flat.parameters.entries[name]), "latent"))
+        if ch.trace is not None:
+            out += trace_globals(exp, data, ch, circuit)
+    return out
+
+
+def trace_globals(exp: Experiment, data: Dataset, ch, circuit) -> list[Free]:
+    """The knots of a latent trace (:mod:`blocks.calibrate.latent_trace`) as free globals: each knot's value
+    (``<profile>.values[knot j]``) and, but for the first and last, its time (``<profile>.times[knot j]``),
+    bounded halfway to its neighbours' start times so that the knots keep their order. An error naming the
+    input if the recording needs too many knots."""
+    measured, sigma = data.measured[ch.name], data.sigma[ch.name]
+    try:
+        knots = choose_knots(data.t, measured, sigma)
+    except ValueError as exc:
+        raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace: {exc}; impose it "
+                        f"exactly (no latent:) or model the command by its levels") from None
+    profile = ch.trace.rsplit(".", 1)[0]
+    length = len(circuit.flat.parameters.evaluate({})[f"{profile}.times"])
+    if len(knots) > length:
+        raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace: {len(knots)} knots, "
+                        f"more than the {length} breakpoints of the profile '{profile}'")
+    times = data.t[knots]
+    gap = 1e-3 * float(np.min(np.diff(data.t)))
+    middles = 0.5 * (times[:-1] + times[1:])
+    out = []
+    for j, (at, z) in enumerate(zip(times, knot_values(data.t, measured, knots)), start=1):
+        out.append(Free(f"{profile}.values[knot {j}]", float(z), -np.inf, np.inf, 0.1 * sigma, "", "trace",
+                        at=float(at)))
+        if 1 < j < len(times):
+            out.append(Free(f"{profile}.times[knot {j}]", float(at), float(middles[j - 2] + gap),
+                            float(middles[j - 1] - gap), 0.05 * float(np.median(np.diff(data.t))), "s",
+                            "trace_time"))
     return out
 
 
@@ -421,8 +456,8 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             if exact:
                 lines.append("  the netlist imposes " + ", ".join(f"the column {c} ({p})" for c, p in exact)
                              + " exactly as read from the data: its measurement noise is not accounted for, passes "
-                               "into the outputs and can be what remains (an input listed under inputs: with latent "
-                               "levels is fitted with its noise)")
+                               "into the outputs and can be what remains (listed under inputs: with latent: trace, it "
+                               "is fitted with its noise)")
         elif not cal.accepted:
             lines.append("no effect found: the declared model fits to the noise")
         else:

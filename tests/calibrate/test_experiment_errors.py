@@ -72,6 +72,12 @@ CASES = {
                        r"lower bound 500 bar is not below the upper 5 bar"),
     "a group without rows": (changed(**{"groups": {"1": {"p_set": "30 bar"}, "2": {"p_set": "45 bar"}}}),
                              r"groups\.2: no rows of group '2' in column 'setting' of data\.csv \(groups there: 1\)"),
+    "latent neither levels nor trace": (changed(**{"inputs": {"Q": {"parameter": "Q_in", "latent": "trac",
+                                                                   "noise": "0.5 l/min"}}}),
+                                        r"inputs\.Q\.latent: 'trac' is not a latent input: give .* or 'trace'"),
+    "a latent trace of a steady parameter": (changed(**{"inputs": {"Q": {"parameter": "Q_in", "latent": "trace",
+                                                                        "noise": "0.5 l/min"}}}),
+                                             r"inputs\.Q\.latent: 'trace' is for the recorded input of a time series"),
 }
 
 
@@ -108,6 +114,16 @@ def test_time_series_must_not_go_back(tmp_path, capsys):
 def test_a_time_column_must_be_a_time(tmp_path, capsys):
     code, err, _ = run(tmp_path, capsys, SERIES, data="t [bar],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
     assert code == 2 and re.search(r"data\.csv:1:1: column 't \[bar\]': unit 'bar' is not a time", err), err
+
+
+def test_a_latent_trace_needs_the_netlist_to_read_the_recording(tmp_path, capsys):
+    spec = dict(SERIES, inputs={"cmd": {"signal": "cmd", "latent": "trace", "noise": 0.01}})
+    code, err, path = run(tmp_path, capsys, spec, data="t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
+    assert code == 2 and len(err.splitlines()) == 1 and re.search(
+        rf"{re.escape(str(path))}:\d+:\d+: inputs\.cmd\.latent: 'trace' fits the recorded column cmd as a latent "
+        rf"spline, so .*drive_line_open\.yaml must impose it by reading it from the data file .* it reads no such "
+        rf"column", err), err
+    assert not (tmp_path / "out").exists()
 
 
 def test_yaml_syntax_error_is_located(tmp_path, capsys):
