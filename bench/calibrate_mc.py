@@ -61,6 +61,7 @@ TABLE = ROOT / "docs" / "calibration-montecarlo.md"
 
 STEADY_FLOWS_DEFAULT = (12.5, 25.0, 37.5, 50.0, 62.5, 75.0, 87.5)  # l/min, per setting
 STEADY_FLOWS = STEADY_FLOWS_DEFAULT
+RECORDED = False  # --recorded: the time series's command imposed as its recording, a latent trace
 STEADY_SETTINGS = {"1": 30e5, "2": 45e5, "3": 60e5}  # crack setting p_set [Pa] per group
 TRIAL = {  # a first guess of each planted parameter (SI); scaled to the target lambda
     "flow_force": 0.1, "line_loss_turbulent": 2e11, "line_loss_laminar": 3e8, "leakage": 1e-11,
@@ -341,6 +342,13 @@ def write_experiment(s: Setup, data_path: Path, path: Path) -> None:
         spec["group_table"] = table
     if s.kind == "mcv":  # the real data's experiment refits 8 candidates per round; the Monte Carlo the default 3
         spec["trace"] = {"rounds": 3, "top": 3}
+    if s.kind == "time" and RECORDED:  # the netlist's command profile reads the seed's recording
+        netlist = yaml.safe_load(Path(s.exp.netlist).read_text())
+        netlist["components"]["cmd"]["params"] = {"times": {"csv": str(data_path), "column": "t"},
+                                                  "values": {"csv": str(data_path), "column": "cmd"}}
+        atomic_write_text(path.parent / "recorded.yaml", yaml.safe_dump(netlist, sort_keys=False))
+        spec["netlist"] = str(path.parent / "recorded.yaml")
+        spec["inputs"] = {"cmd": dict(spec["inputs"]["cmd"], latent="trace")}
     atomic_write_text(path, yaml.safe_dump(spec, sort_keys=False))
 
 
@@ -409,27 +417,31 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
             "simulations": cal.simulations}
 
 
-def configure(flows: int | None) -> None:
+def configure(flows: int | None, recorded: bool = False) -> None:
     """The steady experiment's flows per setting: the 7 of the main table, or ``flows`` evenly spaced from
-    12.5 to 87.5 l/min (a denser experiment; its results go to a file of their own)."""
-    global STEADY_FLOWS, RESULTS
+    12.5 to 87.5 l/min (a denser experiment; its results go to a file of their own). ``recorded``: the time
+    series's command imposed as its recording, a latent trace (results in a file of their own)."""
+    global STEADY_FLOWS, RESULTS, RECORDED
     new = STEADY_FLOWS_DEFAULT if not flows else tuple(float(q) for q in np.linspace(12.5, 87.5, flows))
     if new != STEADY_FLOWS:
         _SETUPS.pop("steady", None)
         _SIZES.clear()
-    STEADY_FLOWS = new
-    RESULTS = OUT / ("results.jsonl" if not flows else f"results_flows{flows}.jsonl")
+    STEADY_FLOWS, RECORDED = new, recorded
+    RESULTS = OUT / ("results_recorded.jsonl" if recorded else "results.jsonl" if not flows
+                     else f"results_flows{flows}.jsonl")
 
 
 def _variant() -> str:
-    """The suffix of the files of a denser steady experiment (its truth netlists and runs are its own: two
-    runs of the bench at once must not overwrite each other's truth)."""
+    """The suffix of the files of a denser steady experiment or of the recorded command (their truth netlists
+    and runs are their own: two runs of the bench at once must not overwrite each other's)."""
+    if RECORDED:
+        return "_recorded"
     return "" if STEADY_FLOWS == STEADY_FLOWS_DEFAULT else f"_flows{len(STEADY_FLOWS)}"
 
 
 def _worker(args) -> dict:
-    case_name, seed, sizes, flows = args
-    configure(flows)
+    case_name, seed, sizes, flows, recorded = args
+    configure(flows, recorded)
     case = next(c for c in CASES if c.name == case_name)
     try:
         return run_seed(case, seed, sizes)
@@ -527,6 +539,20 @@ def table(results: list[dict]) -> str:
                   ""] + case_rows(rows) + [""] + rec_misses(rows)
         lines += ["", f"Records: out/calibrate_mc/{dense.name}. Rerun: `python bench/calibrate_mc.py --flows {flows} "
                       f"--seeds 20 --workers 2` (the steady cases only).", ""]
+    recorded = OUT / "results_recorded.jsonl"
+    if recorded.exists():
+        rows = [json.loads(line) for line in recorded.read_text().splitlines() if line.strip()]
+        lines += ["## The time series with the command imposed as its recording (a latent trace)", "",
+                  "The same drive line, truths, noise and criteria; but the experiment has no command profile "
+                  "of its own: the netlist's profile reads the seed's recorded command column (noise 0.005), "
+                  "and the experiment lists it as `cmd: {signal: cmd, latent: trace}`, so the command is a "
+                  "linear spline whose knots are chosen from the recording and whose knot times and values "
+                  "are fitted with the parameters (blocks/calibrate/latent_trace.py). The truth's command steps "
+                  "between samples (at 0.2 to 0.201 s and 1.6 to 1.601 s; samples every 2 ms): the knots' times "
+                  "find it. The held-out reference is the truth model with its true command.", ""] \
+            + case_rows(rows) + [""] + rec_misses(rows)
+        lines += ["", f"Records: out/calibrate_mc/{recorded.name}. Rerun: `python bench/calibrate_mc.py --recorded "
+                      f"--cases time_none time_coulomb --seeds 20 --workers 2` (the time-series cases only).", ""]
     if MCV_RESULTS.exists():
         rows = [json.loads(line) for line in MCV_RESULTS.read_text().splitlines() if line.strip()]
         lines += ["## The steady cases on the MCV rig", "",
@@ -628,8 +654,9 @@ def _after_trace_effect() -> str:
     for path in sorted(OUT.glob("results*.jsonl")):
         for line in path.read_text().splitlines():
             r = json.loads(line) if line.strip() else {}
-            name = f"`{r.get('case')}`" if not path.stem.startswith("results_flows") else \
-                f"the {3 * int(path.stem.removeprefix('results_flows'))}-point `{r.get('case')}`"
+            name = f"the {3 * int(path.stem.removeprefix('results_flows'))}-point `{r.get('case')}`" \
+                if path.stem.startswith("results_flows") else f"the recorded-command `{r.get('case')}`" \
+                if path.stem == "results_recorded" else f"`{r.get('case')}`"
             if any(e["made"] for e in r.get("exchanges", [])):
                 made[name] = made.get(name, 0) + 1
             if any(t["removed"] for t in r.get("removals", [])):
@@ -752,6 +779,9 @@ def main(argv=None) -> int:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--flows", type=int, help="steady cases only: this many flows per setting instead of 7 "
                                                   "(results in their own file and table section)")
+    parser.add_argument("--recorded", action="store_true", help="time-series cases only: the command imposed as its "
+                                                                  "recording, a latent trace (results in their own "
+                                                                  "file and table section)")
     parser.add_argument("--table", action="store_true", help="only write the table from the results so far")
     parser.add_argument("--examples", action="store_true", help="rewrite the example data files")
     args = parser.parse_args(argv)
@@ -764,9 +794,12 @@ def main(argv=None) -> int:
         write_table()
         return 0
     OUT.mkdir(parents=True, exist_ok=True)
-    configure(args.flows)
+    if args.flows is not None and args.recorded:
+        parser.error("--flows is for the steady cases, --recorded for the time series: give one")
+    configure(args.flows, args.recorded)
     done = {(r["case"], r["seed"]) for r in load_results()}
     cases = [c for c in CASES if (not args.cases or c.name in args.cases) and (not args.flows or c.kind == "steady")
+             and (not args.recorded or c.kind == "time")
              and (c.kind != "mcv" or args.cases)]  # the MCV rig's cases run when named
     jobs = []
     for case in cases:
@@ -777,7 +810,7 @@ def main(argv=None) -> int:
             started = time.perf_counter()
             _SIZES[case.name] = setup(case.kind).size(case)
             print(f"{case.name}: sized {_SIZES[case.name]} in {time.perf_counter() - started:.0f} s", flush=True)
-        jobs += [(case.name, s, _SIZES[case.name], args.flows) for s in seeds]
+        jobs += [(case.name, s, _SIZES[case.name], args.flows, args.recorded) for s in seeds]
     jobs.sort(key=lambda job: job[1])  # seed by seed over the cases: an interrupted run covers every case
     print(f"{len(jobs)} runs", flush=True)
     import multiprocessing
