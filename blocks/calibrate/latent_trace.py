@@ -4,32 +4,37 @@ command is known only by its recording.
 The netlist imposes the recording itself (a ``profile`` block whose ``values`` read the data column,
 ``{csv:, column:}``). Taken as it is, the recording's noise drives the circuit as if it were the true command
 and biases the fit. With ``latent: trace`` on the input, the true command is instead a linear spline
-through knots (t_j, z_j), j = 1..m, at sample times of the data:
+through knots (t_j, z_j), j = 1..m:
 
     u(t) = z_j + (z_{j+1} - z_j) * (t - t_j) / (t_{j+1} - t_j)      for t_j <= t <= t_{j+1}
 
-and the measured column is a noisy reading of it, u_meas(t_k) = u(t_k) + e_k, e_k ~ N(0, sigma^2). The knot
-values z are fitted with the parameters (:mod:`blocks.calibrate.model`: the input's rows
-r_k = (u(t_k) - u_meas(t_k)) / sigma count in chi^2 as the outputs' rows do, and the outputs inform z too).
+held at z_1 before t_1 and at z_m after t_m, and the measured column is a noisy reading of it,
+u_meas(t_k) = u(t_k) + e_k, e_k ~ N(0, sigma^2). The knot values z_j and the interior knot times t_j are
+fitted with the parameters (:mod:`blocks.calibrate.model`: the input's rows r_k = (u(t_k) - u_meas(t_k)) /
+sigma count in chi^2 as the outputs' rows do, and the outputs inform the knots too). A knot time moves
+between the samples: a step that falls between two samples, or a ramp's corner that the noise hides by a
+few samples, is placed by what the outputs saw. Each interior knot time is bounded halfway to its
+neighbours' start times, so the knots keep their order.
 
-The knot times are chosen once, from the measured column alone (:func:`choose_knots`), by top-down
-segmentation: start with knots at the first and last sample; fit the spline to u_meas by least squares;
-a segment whose interior residuals are not noise (chi^2 of its i interior samples in sigma^2 beyond the
-chi^2_i quantile at alpha / number of segments, Bonferroni) is split at its largest residual; the least
-likely segment is split first, and the fit repeated, until every segment is noise. A command of steps,
-ramps and stops is piecewise linear, so a few knots carry it exactly, up to where a step falls between two
-samples (the spline then ramps over that sample interval, as the netlist's profile of the recording does);
-a smooth command gets knots as dense as its curvature above the noise asks for. Each knot value is one more
-fitted parameter, one more simulation per Jacobian: a trace that needs more than ``max_knots`` is refused.
+How many knots, and where they start, is chosen once from the measured column alone (:func:`choose_knots`):
+1. split: starting from knots at the first and last sample, add a knot at the sample where it lowers
+   chi^2 = sum(((u_meas - u) / sigma)^2) the most (:func:`split_gains`: the projection of the residuals on
+   the knot's hat function, its neighbours held), refit the knot values by least squares, and repeat while
+   the best knot lowers chi^2 by over ``margin`` (10 + ln n: the acceptance bar of an effect's dBIC);
+2. prune: remove the knot whose removal raises chi^2 least, while that is under ``margin`` (a split
+   places a knot near a corner; a better placed one may make it unneeded);
+3. refine: move each knot, within 10 samples, to the sample where the spline fits best; prune again.
+A command of steps, ramps and stops gets a knot at each corner (two for a step: its foot and its top);
+a smooth command gets knots as dense as its curvature above the noise asks for. Each knot adds two fitted
+parameters, two simulations per Jacobian: a trace that needs more than ``max_knots`` is refused.
 """
 
 from __future__ import annotations
 
 import numpy as np
-from scipy.stats import chi2
 
 MAX_KNOTS = 60
-"""The most knots a latent trace may take (each is a parameter: one simulation more per Jacobian)."""
+"""The most knots a latent trace may take (each adds its value and time to the fitted parameters)."""
 
 
 def spline_basis(t: np.ndarray, knot_times: np.ndarray) -> np.ndarray:
@@ -72,7 +77,7 @@ def choose_knots(t: np.ndarray, u: np.ndarray, sigma: float, margin: float | Non
         knots.insert(knots.index(b), split)
 
 
-def prune(t: np.ndarray, u: np.ndarray, sigma: float, knots: list[int], margin: float) -> np.ndarray:
+def prune(t: np.ndarray, u: np.ndarray, sigma: float, knots: list[int], margin: float) -> list[int]:
     """Knots taken out, the cheapest first, while taking one out raises the chi^2 of the refitted spline by
     less than ``margin`` (the splits place a knot where the spline with its ends held gains most, which may
     leave a few a better placed knot makes unneeded). The first and last sample keep theirs."""

@@ -9,9 +9,8 @@ or screened candidate parameters, sensor corrections (``offset:<channel>``, ``ga
 time series, the latent levels of the imposed input (netlist parameters of its command profile) or the
 knots of its latent trace (``latent: trace``: the profile that reads the recorded column gets, in place
 of the recording, the knots' times and values as its breakpoints; see :mod:`blocks.calibrate.latent_trace`).
-Steady
-points carry one latent value per imposed input and point: the true input, of which the measured column is
-a noisy reading (errors-in-variables).
+Steady points carry one latent value per imposed input and point: the true input, of which the measured
+column is a noisy reading (errors-in-variables).
 
 Residuals (normalised by each channel's noise sigma):
     output channel c, point or sample k:  r = (g_c*y_c(x, k) + o_c - y_meas) / sigma_c,  g_c = 1 + gain:c
