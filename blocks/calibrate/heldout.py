@@ -10,7 +10,9 @@ Schemes (``heldout:`` of the experiment):
   (``seed``), each fold's files left out together and predicted as above; with k at least the number of
   files it is leave one experiment out.
 - ``kfold``: steady points dealt into k folds at random (``seed``); a time series cut into k contiguous
-  blocks of samples (the measured input stays in the fit for every sample: it is what is imposed).
+  blocks of samples (the measured input stays in the fit for every sample: it is what is imposed; the
+  knots of a latent trace that start inside the block start the refit from the recording alone, as a
+  steady fold's latent inputs do from their readings: the fold's outputs must not have placed them).
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
 result).
 
@@ -95,6 +97,10 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
                     x0[j] = model.data.measured[ch][int(k)]
         else:
             train = res.rows & ~(fold_rows & outputs)
+            start, end = model.data.t[idx[0]], model.data.t[idx[-1]]
+            for j, g in enumerate(model.layout.globals):
+                if g.kind in ("trace", "trace_time") and start <= (g.initial if g.at is None else g.at) <= end:
+                    x0[j] = g.initial
         f = fit(model, x0, active, train, max_nfev=max_nfev)
         for _ in range(attempts - 1):
             if f.converged:

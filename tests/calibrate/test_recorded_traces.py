@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import shutil
 from pathlib import Path
+
 from types import SimpleNamespace
 
 import numpy as np
@@ -90,6 +91,29 @@ def test_a_latent_trace_is_not_imposed_exactly_and_its_knots_are_the_profiles_br
     # the input's rows: the spline through the knots, sampled at the data's times
     spline = np.interp(data.t, over["cmd.times"][:n], over["cmd.values"][:n])
     assert model.predictions(x)[:data.n] == pytest.approx(spline, abs=1e-9)
+
+
+def test_a_held_out_blocks_knots_start_from_the_recording_alone(tmp_path, monkeypatch):
+    """The fold's outputs must not have placed the knots that predict it (a knot time between two samples is
+    set by the outputs only): the held-out refit starts the block's knots where the recording put them."""
+    import blocks.calibrate.heldout as heldout_module
+    from blocks.circuit import Circuit
+
+    exp = load_experiment(_trace_experiment(tmp_path, "drive_line_series.csv", latent=True))
+    data = load_data(exp)
+    model = Model(Circuit.from_file(exp.netlist), exp, data, exp.free + latent_globals(exp, data))
+    moved = model.initial() + 1e-4  # as if the full fit had moved every parameter
+    starts = []
+    monkeypatch.setattr(heldout_module, "fit", lambda m, x0, active, rows, max_nfev: starts.append(x0.copy())
+                        or SimpleNamespace(x=x0, r=np.zeros(m.n_rows), converged=True))
+    full = SimpleNamespace(x=moved, active=np.ones(moved.size, dtype=bool), rows=np.ones(model.n_rows, dtype=bool))
+    heldout_module.heldout(model, full, exp.spec.heldout)
+    _, folds = heldout_module.make_folds(model, exp.spec.heldout)
+    for (_, idx), x0 in zip(folds, starts):
+        for j, g in enumerate(model.layout.globals):
+            start = g.initial if g.at is None else g.at
+            inside = g.kind in ("trace", "trace_time") and data.t[idx[0]] <= start <= data.t[idx[-1]]
+            assert x0[j] == (g.initial if inside else moved[j]), g.name
 
 
 @pytest.mark.parametrize("latent", [False, True], ids=["imposed exactly", "latent trace"])
