@@ -25,6 +25,8 @@ held-out errors), and these are recorded:
 
     python bench/calibrate_mc.py --seeds 20 --workers 2          # every case, results appended as they end
     python bench/calibrate_mc.py --cases steady_flow_force --seeds 3
+    python bench/calibrate_mc.py --recorded --cases time_none time_coulomb --seeds 10
+                                              # the time series, its command imposed as the recording
     python bench/calibrate_mc.py --table                         # the table from what has run so far
     python bench/calibrate_mc.py --examples                      # rewrite the two example data files
 
