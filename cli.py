@@ -379,7 +379,7 @@ def cmd_calibrate(args) -> int:
     paths = write(cal, out)
     for line in cal.verdict:
         print(line)
-    say(f"wrote {paths['markdown']}, {paths['json']}, {paths['plot']}")
+    say("wrote " + ", ".join(str(p) for p in paths.values()))
     return 0
 
 

@@ -172,8 +172,8 @@ def markdown(cal, info: dict) -> str:
     for tr in info["latent_traces"]:
         L.append(f"- latent trace of {tr['column']}: the recording is taken as a noisy reading of a linear spline "
                  f"through {len(tr['knots'])} knots, chosen from the recording, their times and values fitted "
-                 f"(`{tr['profile']}.times[knot j]`, `{tr['profile']}.values[knot j]` under Parameters); knots "
-                 f"at t = {', '.join(f'{t:.4g}' for t, _ in tr['knots'])} s")
+                 f"(`{tr['profile']}.times[knot j]`, `{tr['profile']}.values[knot j]` under Parameters; "
+                 f"`latent_trace.png`); knots at t = {', '.join(f'{t:.4g}' for t, _ in tr['knots'])} s")
     if exp.exact_columns:
         L.append("- imposed exactly, read from the data by the netlist (their noise is not accounted for): "
                  + ", ".join(f"{column} -> `{param}`" for column, param in exp.exact_columns))
@@ -377,12 +377,50 @@ def plot_residuals(cal, path: Path) -> None:
     plt.close(fig)
 
 
+def plot_latent_traces(cal, traces: list[dict], path: Path) -> None:
+    """Per latent trace: the recording, the fitted spline and its knots against t, and the recording's
+    residual from the spline in its noise sigmas."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(2 * len(traces), 1, figsize=(11, 5.0 * len(traces)), squeeze=False, sharex="col")
+    t = cal.data.t
+    for k, tr in enumerate(traces):
+        ch = next(c for c in cal.exp.inputs if c.name == tr["column"])
+        f = _factor(ch.unit) if ch.unit not in ("", "1") else 1.0
+        knot_t, knot_u = np.array(tr["knots"]).T
+        recorded = cal.data.measured[ch.name]
+        spline = np.interp(t, knot_t, knot_u)
+        top, bottom = axes[2 * k, 0], axes[2 * k + 1, 0]
+        top.plot(t, recorded / f, ".", ms=1.5, color="grey", label="recorded")
+        top.plot(knot_t, knot_u / f, "-o", ms=3, lw=1.0, color="C3", label=f"latent spline ({len(knot_t)} knots)")
+        top.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
+        top.legend(fontsize="small")
+        bottom.plot(t, (recorded - spline) / cal.data.sigma[ch.name], ".", ms=1.5)
+        for level in (-2, 2):
+            bottom.axhline(level, color="grey", lw=0.5, ls="--")
+        bottom.set_ylabel(f"{ch.name}: (recorded - spline) / sigma", fontsize="small")
+        for ax in (top, bottom):
+            ax.grid(True, alpha=0.3)
+    axes[-1, 0].set_xlabel("t [s]")
+    fig.suptitle(f"{Path(cal.exp.file).name}: latent input traces, final fit", fontsize="medium")
+    fig.tight_layout()
+    atomic_write_figure(fig, path)
+    plt.close(fig)
+
+
 def write(cal, out: Path) -> dict[str, Path]:
     out = Path(out)
     info = build(cal)
     paths = {"json": out / "report.json", "markdown": out / "report.md", "plot": out / "residuals.png"}
+    if info["latent_traces"]:
+        paths["traces"] = out / "latent_trace.png"
     atomic_write_text(paths["json"], json.dumps(_finite(info), indent=1, default=_json_default) + "\n")
     plot_residuals(cal, paths["plot"])
+    if "traces" in paths:
+        plot_latent_traces(cal, info["latent_traces"], paths["traces"])
     atomic_write_text(paths["markdown"], markdown(cal, info))
     return paths
 

@@ -20,6 +20,7 @@ import yaml
 from blocks.calibrate.data import load_data
 from blocks.calibrate.experiment import load_experiment
 from blocks.calibrate.model import Model
+from blocks.calibrate.report import write
 from blocks.calibrate.run import calibrate, latent_globals, verdict
 
 EXPERIMENTS = Path(__file__).resolve().parents[2] / "netlists" / "experiments"
@@ -124,9 +125,11 @@ def test_the_recordings_noise_biases_the_friction_unless_the_trace_is_latent(tmp
     assert [a[0] for a in cal.accepted] == ["coulomb_friction@shaft"]
     k = cal.final.model.layout.index("cal_Tc_shaft")
     value, se = cal.final.fit.x[k], cal.final.fit.se[k]
+    paths = write(cal, tmp_path / "out")
     if latent:
         assert abs(value - 3.0) < 3.0 * se, f"{value} +- {se}"
         assert cal.final.lof.reduced < 1.1 and not verdict(cal)[1]
+        assert paths["traces"].stat().st_size > 0 and "latent trace of cmd" in paths["markdown"].read_text()
     else:  # the premise: the recording imposed exactly biases the friction and leaves a misfit
         assert abs(value - 3.0) > 3.0 * se, f"{value} +- {se}"
-        assert verdict(cal)[1]
+        assert verdict(cal)[1] and "traces" not in paths
