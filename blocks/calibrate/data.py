@@ -6,7 +6,9 @@ may come from several files (``data: [a.csv, b.csv]``, each an experiment of its
 joined in order and each row remembers its file (``sources``; held out as a whole by
 ``leave_one_experiment_out``); every file needs every channel's column, in any unit of its dimension. A time series
 (a ``t`` column): strictly increasing times, every channel sampled at them; held-out folds are contiguous
-blocks of samples.
+blocks of samples. A time series with a grouping column holds several runs (e.g. the same test at
+different loads), each a block of rows with its own increasing times, simulated each with its group's
+parameter values (``groups:``); held out one run at a time by ``leave_one_group_out``.
 
 Noise: given in the experiment file, or estimated here from the data itself:
 
@@ -90,9 +92,6 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     if several and kind == "time":
         raise exp.error(("data",), f"data: {file.name} is a time series; several data files must all be steady "
                                    f"points (one experiment file per time series)")
-    if kind == "time" and group is not None:
-        raise table.error("a time series with a grouping column is not supported: one experiment file per "
-                          "series", group)
     if kind == "steady" and any(c.role == "input" and c.signal is not None for c in exp.channels):
         ch = next(c for c in exp.channels if c.role == "input" and c.signal is not None)
         raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: steady data (no t column in {file.name}) "
@@ -128,13 +127,9 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
         if not parse_unit(table.units["t"]).same_dimension(parse_unit("s")):
             raise table.error(f"unit '{table.units['t']}' is not a time", "t")
         t = table.columns["t"]
-        steps = np.diff(t)
-        bad = np.nonzero(~(steps > 0))[0]
-        if bad.size:
-            k = int(bad[0]) + 1
-            what = "repeats" if steps[bad[0]] == 0 else "goes back from"
-            raise table.error(f"time {what} the previous row's (times must increase strictly)", "t", k)
     labels = list(table.labels) if table.labels is not None else ["all"] * n
+    if kind == "time":
+        _check_runs(table, t, labels)
     ids = None
     if exp.spec.repeats is not None:
         if kind != "steady":
@@ -171,6 +166,22 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
                 raise exp.error((f"{ch.role}s", ch.name, "noise"), f"noise: the second differences of "
                                                                    f"'{ch.name}' are all zero; give the noise")
     return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
+
+
+def _check_runs(table: Table, t: np.ndarray, labels: list[str]) -> None:
+    """A time series's groups are runs: each one block of rows, its times increasing strictly."""
+    seen = {labels[0]} if labels else set()
+    for k in range(1, len(labels)):
+        if labels[k] != labels[k - 1]:
+            if labels[k] in seen:
+                raise table.error(f"the rows of group '{labels[k]}' are not together: each group of a time series "
+                                  f"is one run, a block of rows", table.group, k)
+            seen.add(labels[k])
+            continue
+        if not t[k] > t[k - 1]:
+            what = "repeats" if t[k] == t[k - 1] else "goes back from"
+            raise table.error(f"time {what} the previous row's (times must increase strictly"
+                              + (" within a run)" if table.group else ")"), "t", k)
 
 
 def _from_repeats(exp: Experiment, measured: dict, labels: list[str], ch, ids) -> tuple[float, str]:

@@ -6,7 +6,7 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     netlist: circuits/relief_rig.yaml
     data: data/relief_rig.csv            # one CSV: steady points (no t column) or a time series (t column);
                                          # steady points may come from several files: [a.csv, b.csv]
-    group: setting                       # the grouping column (optional)
+    group: setting                       # the grouping column (optional; a time series: its runs)
     repeats: point                       # a column marking repeated points (optional; for noise: repeats)
     inputs:                              # measured columns imposed on the circuit
       Q: {parameter: Q_in, noise: "0.5 l/min"}          # steady: the parameter each point sets
@@ -21,7 +21,7 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group
     free:                                # the declared free parameters, values in any unit of their dimension
       k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}
-    drift: [k_s]                         # steady data: refitted per group, should stay constant
+    drift: [k_s]                         # refitted per group (or run), should stay constant
     heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, leave_one_experiment_out (each
                                                 # data file in turn) or {scheme: kfold_experiments, k: 3}
     steady: {t_end: "0.15 s", settle_tol: 0.05} # settling runs (steady data); t_max: the longest a run
@@ -159,6 +159,7 @@ class Free:
     unit: str  # display unit
     kind: str = "declared"  # declared, latent, trace, candidate, correction
     at: float | None = None  # a latent trace's knot value (kind "trace"): the knot's start time, s
+    run: str | None = None  # a latent level of one run of a grouped time series (name "<parameter>[<run>]")
 
 
 @dataclass
@@ -333,6 +334,14 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     if spec.group_table is not None:
         _read_group_table(spec, located, base, groups, param_name)
 
+    for c in channels:  # a latent level is fitted: a value given for it too would be silently overridden
+        for k, level in enumerate(c.latent):
+            given = "overrides" if level in overrides else next(
+                (f"groups.{label}" for label, values in groups.items() if level in values), None)
+            if given is not None:
+                raise located.error(("inputs", c.name, "latent", k), f"inputs.{c.name}.latent: {level} is also set "
+                                    f"by {given}; a latent level is fitted from the measured input (with several "
+                                    f"runs, one value per run), not set")
     set_by = {c.parameter: f"inputs.{c.name}" for c in channels if c.parameter is not None}
     set_by.update({n: f"inputs.{c.name}.latent" for c in channels for n in c.latent})
     set_by.update({n: "overrides" for n in overrides})

@@ -13,6 +13,9 @@ Schemes (``heldout:`` of the experiment):
   blocks of samples (the measured input stays in the fit for every sample: it is what is imposed; the
   knots of a latent trace that start inside the block start the refit from the recording alone, as a
   steady fold's latent inputs do from their readings: the fold's outputs must not have placed them).
+  A time series of several runs (a grouping column) is held out one run at a time by
+  ``leave_one_group_out``: the run's input stays in the fit, its latent levels start the refit from the
+  netlist's values (its outputs must not have placed them) and its outputs are predicted.
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
 result).
 
@@ -73,8 +76,12 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
             " (no groups: leave_one_group_out fell back to kfold)" if spec.scheme == "leave_one_group_out"
             else f" (one data file: {spec.scheme} fell back to kfold)")
         return f"{k}-fold over points{note}", [(f"fold {i + 1}", np.sort(p)) for i, p in enumerate(parts)]
+    if spec.scheme == "leave_one_group_out" and len(groups) >= 2:  # a time series of several runs
+        return "leave one run out", [(label, idx) for label, idx in groups.items()]
     parts = np.array_split(np.arange(data.n), k)
-    note = "" if spec.scheme == "kfold" else f" ({spec.scheme} needs steady points: it fell back to kfold)"
+    note = "" if spec.scheme == "kfold" else (
+        " (one run: leave_one_group_out fell back to kfold)" if spec.scheme == "leave_one_group_out"
+        else f" ({spec.scheme} needs steady points: it fell back to kfold)")
     return f"{k} contiguous blocks of the time series{note}", [(f"block {i + 1}", p) for i, p in enumerate(parts)]
 
 
@@ -98,8 +105,10 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
         else:
             train = res.rows & ~(fold_rows & outputs)
             start, end = model.data.t[idx[0]], model.data.t[idx[-1]]
+            whole = {label for label, rows in model.data.groups.items() if np.isin(rows, idx).all()}
             for j, g in enumerate(model.layout.globals):
-                if g.kind in ("trace", "trace_time") and start <= (g.initial if g.at is None else g.at) <= end:
+                if g.kind in ("trace", "trace_time") and start <= (g.initial if g.at is None else g.at) <= end \
+                        or g.run in whole:
                     x0[j] = g.initial
         f = fit(model, x0, active, train, max_nfev=max_nfev)
         for _ in range(attempts - 1):

@@ -41,8 +41,9 @@ settled it is then fixed for that point in this model: every later evaluation (f
 included) reads the same run length, so the residual is a function of x alone, whatever was evaluated
 before (an optimiser needs that). Points unsettled at their fixed length are counted and reported (never
 silently used as if steady).
-Time series: one run; logged signals are interpolated linearly onto the data's times, which must lie inside
-the simulated span.
+Time series: one run per group of the data (one without a grouping column), with the group's parameter
+values and, with several runs, each run's own latent levels; logged signals are interpolated linearly
+onto the data's times, which must lie inside the simulated span.
 """
 
 from __future__ import annotations
@@ -123,9 +124,12 @@ class Model:
                 raise VphsError(f"{exp.file}: steady.t_max = {self.t_max:g} s is shorter than the settling run "
                                 f"({t_end:g} s)")
         self.settings = settings.with_(**changes)
-        if data.kind == "time":
-            if data.t[0] < self.settings.t_start - 1e-12 or data.t[-1] > self.settings.t_end + 1e-12:
-                raise VphsError(f"{exp.file}: the data's times {data.t[0]:g} ... {data.t[-1]:g} s lie outside the "
+        self.runs = data.groups if data.kind == "time" else {}  # a time series: its runs (one unless grouped)
+        for label, idx in self.runs.items():
+            first, last = data.t[idx[0]], data.t[idx[-1]]
+            if first < self.settings.t_start - 1e-12 or last > self.settings.t_end + 1e-12:
+                run = f" (run '{label}')" if len(self.runs) > 1 else ""
+                raise VphsError(f"{exp.file}: the data's times {first:g} ... {last:g} s{run} lie outside the "
                                 f"simulated span {self.settings.t_start:g} ... {self.settings.t_end:g} s of "
                                 f"{exp.spec.netlist}")
         # residual rows: channel-major, one row per point (or sample) per channel
@@ -212,7 +216,7 @@ class Model:
     def _net_overrides(self, x: np.ndarray) -> dict:
         over = dict(self.fixed)
         for k, f in enumerate(self.layout.globals):
-            if f.kind not in ("correction", "trace", "trace_time"):
+            if f.kind not in ("correction", "trace", "trace_time") and f.run is None:
                 over[f.name] = float(x[k])
         for profile, (value_index, time_index, fixed_times, length) in self.traces.items():
             # the spline's knots as the profile's breakpoints; the arrays keep their length, so the rest of
@@ -368,17 +372,33 @@ class Model:
                 if values is not None:
                     out[k] = values
             return out
-        key = ("time", tuple(sorted(base.items())))
+        for label, idx in self.runs.items():
+            out[idx] = self._run_signals(label, self._run_overrides(label, base, x), idx)
+        return out
+
+    def _run_overrides(self, label: str, base: dict, x: np.ndarray) -> dict:
+        """One run of a time series: the overrides of every run, its group's values and its latent levels."""
+        over = dict(base)
+        over.update(self.exp.groups.get(label, {}))
+        for k, f in enumerate(self.layout.globals):
+            if f.run == label:
+                over[f.name.rsplit("[", 1)[0]] = float(x[k])
+        return over
+
+    def _run_signals(self, label: str, over: dict, idx: np.ndarray) -> np.ndarray:
+        """Every logged signal at the samples ``idx`` of run ``label``, simulated with ``over`` (cached)."""
+        key = ("time", label, tuple(sorted(over.items())))
         if key in self._cache:
             return self._cache[key]
+        out = np.full((idx.size, len(self.circuit.outputs)), np.nan)
         try:
-            result = self._run(base)
+            result = self._run(over)
         except (SimulationError, ParameterError, VphsError) as exc:
-            self.failures.append(str(exc))
+            self.failures.append(str(exc) if len(self.runs) == 1 else f"run {label}: {exc}")
             self._cache[key] = out
             return out
-        for j in range(n_sig):
-            out[:, j] = np.interp(self.data.t, result.t, result.values[:, j])
+        for j in range(out.shape[1]):
+            out[:, j] = np.interp(self.data.t[idx], result.t, result.values[:, j])
         self._cache[key] = out
         if len(self._cache) > 2000:
             self._cache.clear()

@@ -166,7 +166,8 @@ def markdown(cal, info: dict) -> str:
         L += [exp.spec.description.strip(), ""]
     L += [f"- netlist: `{exp.netlist}`", f"- data: {', '.join(f'`{f}`' for f in (exp.data_files or [exp.data]))} ({data.n} "
           + ("steady points" if data.kind == "steady" else "samples of a time series")
-          + (f" in groups {', '.join(data.groups)}" if data.kind == "steady" and len(data.groups) > 1 else "") + ")",
+          + (f" in {'groups' if data.kind == 'steady' else 'runs'} {', '.join(data.groups)}"
+             if len(data.groups) > 1 else "") + ")",
           f"- imposed inputs: {', '.join(c.name for c in exp.inputs) or 'none'} (errors-in-variables: the true "
           f"inputs are fitted as latent values); compared: {', '.join(c.name for c in exp.outputs)}"]
     for tr in info["latent_traces"]:
@@ -351,11 +352,13 @@ def plot_residuals(cal, path: Path) -> None:
                 unit = next(c.unit for c in cal.exp.channels if c.name == against)
                 x = cal.data.measured[against] / _factor(unit)
                 xlabel = f"{against} [{unit}] (measured)"
-            if cal.data.kind == "steady":
+            if cal.data.kind == "steady" or len(cal.data.groups) > 1:  # by group (steady points, or runs)
+                marker, size = ("o", 4) if cal.data.kind == "steady" else (".", 1.5)
                 for label, idx in cal.data.groups.items():
-                    ax.plot(x[idx], r[idx], "o", ms=4, label=f"{label}")
+                    ax.plot(x[idx], r[idx], marker, ms=size, label=f"{label}")
                 if row == 0 and len(cal.data.groups) > 1:
-                    ax.legend(fontsize="x-small", title=cal.exp.spec.group, title_fontsize="x-small")
+                    ax.legend(fontsize="x-small", title=cal.exp.spec.group, title_fontsize="x-small",
+                              markerscale=1 if cal.data.kind == "steady" else 4)
             else:
                 ax.plot(x, r, ".", ms=1.5)
             ax.axhline(0, color="k", lw=0.6)

@@ -247,8 +247,9 @@ def _adopt(cal: Calibration, stage: Stage, netlist: Path, globals_: list[Free]) 
 
 def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
     """The latent values of time-series inputs as free globals: the levels of a command profile (netlist
-    parameters), or the knots of a recorded trace (``latent: trace``, :mod:`blocks.calibrate.latent_trace`;
-    an error naming the input if the recording needs too many)."""
+    parameters; with several runs, one set per run, ``<level>[<run>]``, starting at the run's netlist
+    value), or the knots of a recorded trace (``latent: trace``, :mod:`blocks.calibrate.latent_trace`; an
+    error naming the input if the recording needs too many knots, or if the series has several runs)."""
     out = []
     if data.kind != "time":
         return out
@@ -256,12 +257,20 @@ def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
 
     circuit = Circuit.from_file(exp.netlist, compile=False)
     values = circuit.flat.parameters.evaluate({})
+    runs = list(data.groups) if len(data.groups) > 1 else [None]  # several runs: each its own levels
     for ch in exp.inputs:
         sigma = data.sigma[ch.name]
         for name in ch.latent:
-            out.append(Free(name, float(values[name]), -np.inf, np.inf, 0.1 * sigma,
-                            display_unit(circuit.flat.parameters.entries[name]), "latent"))
+            for run in runs:
+                start = float(values[name] if run is None else circuit.flat.parameters.evaluate(
+                    dict(exp.overrides, **exp.groups.get(run, {})))[name])
+                out.append(Free(name if run is None else f"{name}[{run}]", start, -np.inf, np.inf, 0.1 * sigma,
+                                display_unit(circuit.flat.parameters.entries[name]), "latent", run=run))
         if ch.trace is not None:
+            if runs != [None]:
+                raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: 'trace' needs one run: "
+                                f"the netlist reads the recording of the whole file, and this time series has "
+                                f"{len(runs)} groups ({exp.spec.group}); give each run its own experiment file")
             out += trace_globals(exp, data, ch, circuit)
     return out
 
@@ -327,7 +336,8 @@ def context(stage: Stage, exp: Experiment, data: Dataset, doc: NetlistDoc) -> Co
     p_ref = min((data.sigma[c.name] for c in pressures), default=1e4)
     speeds = channels_in("rad/s")
     w_ref = max((float(np.max(np.abs(data.measured[c.name]))) for c in speeds), default=10.0) or 10.0
-    t_span = float(data.t[-1] - data.t[0]) if data.kind == "time" else stage.model.settings.t_end
+    t_span = max(float(data.t[idx[-1]] - data.t[idx[0]]) for idx in data.groups.values()) if data.kind == "time" \
+        else stage.model.settings.t_end
     values = circuit.vectors(dict(exp.overrides)).values
     return Context(doc, circuit.flat, circuit.structure, values, exp, data, logged, q_ref, p_ref, w_ref, t_span)
 

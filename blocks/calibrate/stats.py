@@ -1,11 +1,12 @@
 """Lack-of-fit statistics of a fit: per channel chi^2/nu and RMSE; for a time series the residuals'
-whiteness (Ljung-Box) and their cross-correlation with the inputs; for steady data the drift of a
-parameter that should be constant, refitted group by group.
+whiteness (Ljung-Box) and their cross-correlation with the inputs; the drift of a parameter that should
+be constant, refitted group by group (steady points, or the runs of a time series).
 
 - chi^2/nu per channel: chi^2_c / (n_c * nu / n), the degrees of freedom nu = n - p shared out in
   proportion to the channel's rows (the latent inputs' rows and parameters cancel in the count);
   p-value of the whole chi^2 with nu degrees of freedom.
-- Ljung-Box: Q = n (n + 2) sum_{k=1..h} rho_k^2 / (n - k), h = min(20, n/5), against chi^2_h.
+- Ljung-Box: Q = n (n + 2) sum_{k=1..h} rho_k^2 / (n - k), h = min(20, n/5), against chi^2_h (the runs of
+  a grouped time series one after the other: the h lags that straddle a run's end are few of n).
 - Block means (time series): a misfit that is slow compared with the sampling spreads its chi^2 over
   thousands of samples, where chi^2/nu barely moves and the autocorrelations stay small; the means of the
   normalised residuals over blocks of m consecutive samples gather it: z_b = sum_{k in b} r_k / sqrt(m) is
@@ -23,8 +24,8 @@ parameter that should be constant, refitted group by group.
                                below sqrt(1e-3): what the parameters absorb to 99.9 % tests nothing)
   is chi^2 with rank(V) degrees of freedom when the model is right (Ramsey's RESET test with the latent
   inputs and every free parameter in the null model).
-- Drift (steady, ``drift:`` parameters): the parameter refitted on each group alone (the other parameters
-  held at the global fit, the group's latent inputs free), with the homogeneity chi^2 =
+- Drift (``drift:`` parameters): the parameter refitted on each group alone (the other parameters held
+  at the global fit, the group's latent inputs, or the run's latent levels, free), with the homogeneity chi^2 =
   sum_g (theta_g - theta_w)^2 / se_g^2 on G - 1 degrees of freedom (theta_w the inverse-variance mean)
   and the spread max - min. An estimate that ends on a bound of the parameter is marked and left out of
   the test (its standard error means nothing there): a drift that pushes a parameter to its bound is
@@ -224,10 +225,11 @@ def max_cross_correlation(e: np.ndarray, u: np.ndarray, h: int | None = None) ->
 
 
 def drift(model: Model, res: FitResult, names: list[str]) -> dict:
-    """Each ``names`` parameter refitted per group (steady data): estimates, SEs, spread, homogeneity test."""
+    """Each ``names`` parameter refitted per group (steady points, or the runs of a time series): estimates,
+    SEs, spread, homogeneity test."""
     out = {}
     groups = model.data.groups
-    if model.data.kind != "steady" or len(groups) < 2:
+    if len(groups) < 2:
         return out
     for name in names:
         j = model.layout.index(name)
@@ -239,6 +241,8 @@ def drift(model: Model, res: FitResult, names: list[str]) -> dict:
             for k in points:
                 for i in range(len(model.layout.inputs)):
                     active[model.layout.latent_index(int(k), i)] = True
+            for k, g in enumerate(model.layout.globals):  # a run's latent levels
+                active[k] |= g.run == label
             rows = model.rows_of_points(points)
             g = fit(model, res.x, active, rows, max_nfev=30)
             est.append(g.x[j])

@@ -1,0 +1,122 @@
+"""A time series of several runs (a grouping column): each run simulated with its group's values and its
+own latent command levels, held out one run at a time, a declared parameter's drift tested run by run.
+
+The truth: the drive line (netlists/experiments/circuits/drive_line_open.yaml) with a Coulomb friction of
+3 N*m on the motor shaft, run twice: at 207 bar supply with the netlist's command levels (0.1, 0.2, -0.15)
+and at 150 bar with levels 0.15, 0.25, -0.1; noise on every column (the command's included)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+import cli
+from blocks.calibrate.data import load_data
+from blocks.calibrate.experiment import load_experiment
+from blocks.calibrate.run import calibrate, latent_globals, verdict
+
+EXPERIMENTS = Path(__file__).resolve().parents[2] / "netlists" / "experiments"
+NETLIST = EXPERIMENTS / "circuits" / "drive_line_open.yaml"
+RUNS = {"a": {"supply.p": 207e5, "u1": 0.1, "u2": 0.2, "u3": -0.15},
+        "b": {"supply.p": 150e5, "u1": 0.15, "u2": 0.25, "u3": -0.1}}
+SIGMA = {"cmd": 0.005, "speed": 5.0, "pA": 1.0, "pB": 1.0}  # in the data's units: 1, rpm, bar, bar
+
+
+def _write_runs(tmp_path: Path, seed: int = 4) -> Path:
+    """The two runs' data, simulated by the truth netlist (the declared one with the friction added)."""
+    from blocks.circuit import Circuit
+
+    truth = yaml.safe_load(NETLIST.read_text())
+    truth["components"]["friction"] = {"type": "rot_friction", "params": {"Tc": "3 N*m", "b": 0.0, "w_w": 0.1}}
+    truth["nets"]["shaft"] = truth["nets"]["shaft"] + ["friction.port"]
+    (tmp_path / "truth.yaml").write_text(yaml.safe_dump(truth, sort_keys=False))
+    circuit = Circuit.from_file(tmp_path / "truth.yaml")
+    rng = np.random.default_rng(seed)
+    lines = ["run,t [s],cmd [1],speed [rpm],pA [bar],pB [bar]"]
+    scale = {"cmd": 1.0, "speed": 2 * np.pi / 60, "pA": 1e5, "pB": 1e5}
+    for label, values in RUNS.items():
+        result = circuit.simulate(values)
+        columns = {name: result.values[:, result.names.index(name)] / scale[name] for name in SIGMA}
+        noisy = {name: y + SIGMA[name] * rng.normal(size=y.size) for name, y in columns.items()}
+        for k, t in enumerate(result.t):
+            lines.append(f"{label},{t:.6f}," + ",".join(f"{noisy[name][k]:.6f}" for name in SIGMA))
+    (tmp_path / "runs.csv").write_text("\n".join(lines) + "\n")
+    return tmp_path / "runs.csv"
+
+
+def _experiment(tmp_path: Path, **changes) -> Path:
+    spec = {"netlist": str(NETLIST), "data": "runs.csv", "group": "run",
+            "inputs": {"cmd": {"signal": "cmd", "latent": ["u1", "u2", "u3"], "noise": 0.005}},
+            "outputs": {"speed": {"signal": "speed", "noise": "5 rpm"}, "pA": {"signal": "pA", "noise": "1 bar"},
+                        "pB": {"signal": "pB", "noise": "1 bar"}},
+            "groups": {"a": {"supply.p": "207 bar"}, "b": {"supply.p": "150 bar"}},
+            "free": {"m_load": {"initial": "6000 kg", "lower": "0 kg", "upper": "50000 kg"},
+                     "valve.A_max": {"initial": "110 mm^2", "lower": "10 mm^2", "upper": "1000 mm^2"}},
+            "drift": ["m_load"], "heldout": {"scheme": "leave_one_group_out"},
+            "trace": {"rounds": 1, "only": ["coulomb_friction", "viscous_friction"]}}
+    spec.update(changes)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    return tmp_path / "exp.yaml"
+
+
+@pytest.fixture(scope="module")
+def runs_dir(tmp_path_factory):
+    path = tmp_path_factory.mktemp("runs")
+    _write_runs(path)
+    return path
+
+
+def test_each_run_has_its_own_latent_levels_and_group_values(runs_dir, tmp_path):
+    (tmp_path / "runs.csv").write_text((runs_dir / "runs.csv").read_text())
+    exp = load_experiment(_experiment(tmp_path))
+    data = load_data(exp)
+    assert list(data.groups) == ["a", "b"] and data.n == 2 * 1701
+    levels = latent_globals(exp, data)
+    assert [g.name for g in levels] == ["u1[a]", "u1[b]", "u2[a]", "u2[b]", "u3[a]", "u3[b]"]
+    assert {g.run for g in levels} == {"a", "b"}
+
+
+def test_the_runs_calibrate_together_and_are_held_out_one_at_a_time(runs_dir, tmp_path):
+    (tmp_path / "runs.csv").write_text((runs_dir / "runs.csv").read_text())
+    cal = calibrate(_experiment(tmp_path), tmp_path / "out")
+    assert [a[0] for a in cal.accepted] == ["coulomb_friction@shaft"]
+    final = cal.final
+    x, se = final.fit.x, final.fit.se
+    for name, truth in (("cal_Tc_shaft", 3.0), ("m_load", 7500.0), ("u1[b]", 0.15), ("u2[b]", 0.25),
+                        ("u3[b]", -0.1), ("u1[a]", 0.1)):
+        k = final.model.layout.index(name)
+        assert abs(x[k] - truth) < 3.0 * se[k], f"{name} = {x[k]} +- {se[k]}, truth {truth}"
+    assert final.heldout.scheme == "leave one run out" and [f[0] for f in final.heldout.folds] == ["a", "b"]
+    assert final.heldout.error < 1.2 < cal.initial.heldout.error
+    drift = final.lof.drift["m_load"]
+    assert drift["groups"] == ["a", "b"] and drift["p_value"] > 1e-3
+    assert not verdict(cal)[1]
+
+
+def _run_cli(tmp_path, capsys, data: str, **changes):
+    (tmp_path / "runs.csv").write_text(data)
+    code = cli.main(["calibrate", str(_experiment(tmp_path, **changes)), "-o", str(tmp_path / "out")])
+    return code, capsys.readouterr().err.strip()
+
+
+def test_a_run_must_be_one_block_of_rows(tmp_path, capsys):
+    code, err = _run_cli(tmp_path, capsys, "run,t [s],cmd [1],speed [rpm],pA [bar],pB [bar]\n"
+                                           "a,0,0,0,20,20\na,0.1,0,0,20,20\nb,0,0,0,20,20\na,0.2,0,0,20,20\n")
+    assert code == 2 and re.search(r"runs\.csv:5:1: column 'run': the rows of group 'a' are not together", err), err
+
+
+def test_times_increase_within_a_run(tmp_path, capsys):
+    code, err = _run_cli(tmp_path, capsys, "run,t [s],cmd [1],speed [rpm],pA [bar],pB [bar]\n"
+                                           "a,0,0,0,20,20\na,0.1,0,0,20,20\nb,0,0,0,20,20\nb,0,0,0,20,20\n")
+    assert code == 2 and re.search(r"runs\.csv:5:2: column 't \[s\]': time repeats the previous row's \(times "
+                                   r"must increase strictly within a run\)", err), err
+
+
+def test_a_latent_level_cannot_also_be_set_by_a_group(tmp_path, capsys):
+    code, err = _run_cli(tmp_path, capsys, "run,t [s],cmd [1],speed [rpm],pA [bar],pB [bar]\na,0,0,0,20,20\n",
+                         groups={"a": {"supply.p": "207 bar", "u2": 0.3}})
+    assert code == 2 and "inputs.cmd.latent: u2 is also set by groups.a" in err, err
