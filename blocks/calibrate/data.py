@@ -8,7 +8,9 @@ joined in order and each row remembers its file (``sources``; held out as a whol
 (a ``t`` column): strictly increasing times, every channel sampled at them; held-out folds are contiguous
 blocks of samples. A time series with a grouping column holds several runs (e.g. the same test at
 different loads), each a block of rows with its own increasing times, simulated each with its group's
-parameter values (``groups:``); held out one run at a time by ``leave_one_group_out``.
+parameter values (``groups:``); held out one run at a time by ``leave_one_group_out`` (or
+``leave_one_experiment_out``). Several time-series files (``data: [run1.csv, run2.csv]``) are one run each,
+named by the file name without extension.
 
 Noise: given in the experiment file, or estimated here from the data itself:
 
@@ -25,6 +27,7 @@ Noise: given in the experiment file, or estimated here from the data itself:
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -65,6 +68,13 @@ def load_data(exp: Experiment) -> Dataset:
                                                f"(groups there: {', '.join(sorted(found, key=str))})")
     if len(parts) == 1:
         return parts[0]
+    kinds = {p.kind for p in parts}
+    if len(kinds) > 1:
+        first_time = next(f for p, f in zip(parts, files) if p.kind == "time")
+        raise exp.error(("data",), f"data: {first_time.name} is a time series, other files are steady points; the "
+                                   f"files of one experiment are all of one kind")
+    if kinds == {"time"}:
+        return _join_runs(exp, parts, files)
     measured = {name: np.concatenate([p.measured[name] for p in parts]) for name in parts[0].measured}
     labels = [label for p in parts for label in p.labels]
     sources = [f.name for p, f in zip(parts, files) for _ in range(p.n)]
@@ -89,9 +99,10 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     if group is None and table.group is not None:
         raise table.error(f"has no unit; name it as the experiment's 'group:' or give it a unit", table.group)
     kind = "time" if "t" in table.columns else "steady"
-    if several and kind == "time":
-        raise exp.error(("data",), f"data: {file.name} is a time series; several data files must all be steady "
-                                   f"points (one experiment file per time series)")
+    if several and kind == "time" and group is not None:
+        raise exp.error(("group",), f"group: {file.name} is one of several time-series files, each of them a run; "
+                                    f"a grouping column inside them is not supported (give the runs of one file, "
+                                    f"or one run per file)")
     if kind == "steady" and any(c.role == "input" and c.signal is not None for c in exp.channels):
         ch = next(c for c in exp.channels if c.role == "input" and c.signal is not None)
         raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: steady data (no t column in {file.name}) "
@@ -168,6 +179,31 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
 
 
+def _join_runs(exp: Experiment, parts: list[Dataset], files: list) -> Dataset:
+    """Several time-series files: each one run, named by its file name without extension (its key under
+    ``groups:``); noise estimated from differences is pooled over the files."""
+    names = [Path(f).stem for f in files]
+    if len(set(names)) < len(names):
+        names = [str(f) for f in files]
+    labels = [name for p, name in zip(parts, names) for _ in range(p.n)]
+    unknown = [str(label) for label in exp.spec.groups if str(label) not in names]
+    if unknown:
+        raise exp.error(("groups", unknown[0]), f"groups.{unknown[0]}: no run of that name; the runs are the data "
+                                                f"files, named without extension: {', '.join(names)}")
+    measured = {name: np.concatenate([p.measured[name] for p in parts]) for name in parts[0].measured}
+    sigma, notes = {}, {}
+    for ch in exp.channels:
+        if ch.noise_method == "repeats":
+            raise exp.error((f"{ch.role}s", ch.name, "noise"), "noise: repeats needs steady points; use diff")
+        if ch.noise_method == "diff":
+            sigma[ch.name] = _from_differences(*(p.measured[ch.name] for p in parts))
+            notes[ch.name] = f"estimated from second differences, pooled over {len(parts)} files"
+        else:
+            sigma[ch.name], notes[ch.name] = parts[0].sigma[ch.name], parts[0].noise_notes[ch.name]
+    return Dataset("time", len(labels), np.concatenate([p.t for p in parts]), labels, measured, sigma,
+                   parts[0].table, notes, sources=labels)
+
+
 def _check_runs(table: Table, t: np.ndarray, labels: list[str]) -> None:
     """A time series's groups are runs: each one block of rows, its times increasing strictly."""
     seen = {labels[0]} if labels else set()
@@ -215,8 +251,8 @@ def _from_repeats(exp: Experiment, measured: dict, labels: list[str], ch, ids) -
     return float(np.sqrt(ss / dof)), f"estimated from repeated points ({dof} degrees of freedom)"
 
 
-def _from_differences(y: np.ndarray) -> float:
-    d = y[2:] - 2.0 * y[1:-1] + y[:-2]
+def _from_differences(*series: np.ndarray) -> float:
+    d = np.concatenate([y[2:] - 2.0 * y[1:-1] + y[:-2] for y in series])
     if d.size < 5:
         return 0.0
     return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(6.0))

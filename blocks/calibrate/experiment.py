@@ -5,7 +5,7 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     description: steady points of the relief rig, three crack settings
     netlist: circuits/relief_rig.yaml
     data: data/relief_rig.csv            # one CSV: steady points (no t column) or a time series (t column);
-                                         # steady points may come from several files: [a.csv, b.csv]
+                                         # several files: [a.csv, b.csv] (steady points, or one run each)
     group: setting                       # the grouping column (optional; a time series: its runs)
     repeats: point                       # a column marking repeated points (optional; for noise: repeats)
     inputs:                              # measured columns imposed on the circuit

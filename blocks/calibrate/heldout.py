@@ -13,8 +13,8 @@ Schemes (``heldout:`` of the experiment):
   blocks of samples (the measured input stays in the fit for every sample: it is what is imposed; the
   knots of a latent trace that start inside the block start the refit from the recording alone, as a
   steady fold's latent inputs do from their readings: the fold's outputs must not have placed them).
-  A time series of several runs (a grouping column) is held out one run at a time by
-  ``leave_one_group_out``: the run's input stays in the fit, its latent levels start the refit from the
+  A time series of several runs (a grouping column, or one data file per run) is held out one run at a
+  time by ``leave_one_group_out`` or ``leave_one_experiment_out``: the run's input stays in the fit, its latent levels start the refit from the
   netlist's values (its outputs must not have placed them) and its outputs are predicted.
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
 result).
@@ -76,7 +76,7 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
             " (no groups: leave_one_group_out fell back to kfold)" if spec.scheme == "leave_one_group_out"
             else f" (one data file: {spec.scheme} fell back to kfold)")
         return f"{k}-fold over points{note}", [(f"fold {i + 1}", np.sort(p)) for i, p in enumerate(parts)]
-    if spec.scheme == "leave_one_group_out" and len(groups) >= 2:  # a time series of several runs
+    if spec.scheme in ("leave_one_group_out", "leave_one_experiment_out") and len(groups) >= 2:  # runs
         return "leave one run out", [(label, idx) for label, idx in groups.items()]
     parts = np.array_split(np.arange(data.n), k)
     note = "" if spec.scheme == "kfold" else (

@@ -120,3 +120,51 @@ def test_a_latent_level_cannot_also_be_set_by_a_group(tmp_path, capsys):
     code, err = _run_cli(tmp_path, capsys, "run,t [s],cmd [1],speed [rpm],pA [bar],pB [bar]\na,0,0,0,20,20\n",
                          groups={"a": {"supply.p": "207 bar", "u2": 0.3}})
     assert code == 2 and "inputs.cmd.latent: u2 is also set by groups.a" in err, err
+
+
+def _split_files(runs_dir: Path, tmp_path: Path) -> None:
+    """The two runs as two files (a.csv, b.csv) without the run column."""
+    rows = (runs_dir / "runs.csv").read_text().splitlines()
+    header = rows[0].split(",", 1)[1]
+    for label in RUNS:
+        body = [row.split(",", 1)[1] for row in rows[1:] if row.startswith(label + ",")]
+        (tmp_path / f"{label}.csv").write_text("\n".join([header] + body) + "\n")
+
+
+def test_one_file_per_run_is_the_same_experiment_as_a_grouping_column(runs_dir, tmp_path):
+    from blocks.calibrate.heldout import make_folds
+    from blocks.calibrate.model import Model
+    from blocks.circuit import Circuit
+
+    (tmp_path / "runs.csv").write_text((runs_dir / "runs.csv").read_text())
+    grouped = load_data(load_experiment(_experiment(tmp_path)))
+    _split_files(runs_dir, tmp_path)
+    exp = load_experiment(_experiment(tmp_path, data=["a.csv", "b.csv"], group=None,
+                                      heldout={"scheme": "leave_one_experiment_out"}))
+    files = load_data(exp)
+    assert files.labels == grouped.labels and np.array_equal(files.t, grouped.t)
+    for name in SIGMA:
+        assert np.array_equal(files.measured[name], grouped.measured[name])
+    model = Model(Circuit.from_file(exp.netlist), exp, files, exp.free + latent_globals(exp, files))
+    scheme, folds = make_folds(model, exp.spec.heldout)
+    assert scheme == "leave one run out" and [label for label, _ in folds] == ["a", "b"]
+
+
+def test_the_runs_of_several_files_are_named_by_their_files(runs_dir, tmp_path, capsys):
+    _split_files(runs_dir, tmp_path)
+    path = _experiment(tmp_path, data=["a.csv", "b.csv"], group=None,
+                       groups={"a": {"supply.p": "207 bar"}, "c": {"supply.p": "150 bar"}})
+    code = cli.main(["calibrate", str(path), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and "groups.c: no run of that name; the runs are the data files, named without extension: a, b" \
+        in err, err
+
+
+def test_time_series_and_steady_points_do_not_mix(runs_dir, tmp_path, capsys):
+    _split_files(runs_dir, tmp_path)
+    (tmp_path / "steady.csv").write_text("speed [rpm],pA [bar],pB [bar]\n100,20,20\n")
+    path = _experiment(tmp_path, data=["a.csv", "steady.csv"], group=None, inputs={}, groups={}, drift=[])
+    code = cli.main(["calibrate", str(path), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: data: a\.csv is a time series, other files are steady "
+                                   r"points", err), err
