@@ -1,4 +1,5 @@
-"""Measured data mapped onto an experiment's channels: steady operating points or one time series, in SI.
+"""Measured data mapped onto an experiment's channels, in SI: steady operating points or a time series (one
+run or several).
 
 Steady points (no ``t`` column): one row per operating point, the group label of each row (the grouping
 column, or "all"), the measured inputs (imposed through a parameter per point) and outputs. Steady points
