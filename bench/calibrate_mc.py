@@ -553,57 +553,60 @@ def table(results: list[dict]) -> str:
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
     for dense in sorted(OUT.glob("results_flows*.jsonl")):
         flows = int(dense.stem.removeprefix("results_flows"))
-        rows = [json.loads(line) for line in dense.read_text().splitlines() if line.strip()]
-        lines += [f"## The steady cases with {flows} flows per setting ({3 * flows} points)", "",
-                  f"The same relief rig, settings, noise and criteria, with {flows} flows per setting evenly from "
-                  f"12.5 to 87.5 l/min instead of 7; each effect sized again to lambda of about 100 (so it is "
-                  f"smaller). chi^2/nu of a right model is then in [0.8, 1.25] in "
-                  f"{_band_rate(3 * flows * 4 - 3 * flows - 3)} of seeds in theory. At lambda <= 3 the planted "
-                  f"effect passes dBIC < -10 by its noise in {_chance_claim(rows, 'steady_small', 3 * flows * 4)}.",
-                  ""] + case_rows(rows) + [""] + rec_misses(rows)
-        lines += ["", f"Records: out/calibrate_mc/{dense.name}. Rerun: `python bench/calibrate_mc.py --flows {flows} "
-                      f"--seeds 20 --workers 2` (the steady cases only).", ""]
-    recorded = OUT / "results_recorded.jsonl"
-    if recorded.exists():
-        rows = [json.loads(line) for line in recorded.read_text().splitlines() if line.strip()]
-        lines += ["## The time series with the command imposed as its recording (a latent trace)", "",
-                  "The same drive line, truths, noise and criteria; but the experiment has no command profile "
-                  "of its own: the netlist's profile reads the seed's recorded command column (noise 0.005), "
-                  "and the experiment lists it as `cmd: {signal: cmd, latent: trace}`, so the command is a "
-                  "linear spline whose knots are chosen from the recording and whose knot times and values "
-                  "are fitted with the parameters (blocks/calibrate/latent_trace.py). The truth's command steps "
-                  "between samples (at 0.2 to 0.201 s and 1.6 to 1.601 s; samples every 2 ms): the knots' times "
-                  "find it. The held-out reference is the truth model predicting from the same information: its "
-                  "command the spline that the recording alone gives (knots at samples, as the tool starts them; "
-                  "a held-out block's knots start there too). The median held-out ratio against the truth model "
-                  "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ".", ""] \
-            + case_rows(rows) + [""] + rec_misses(rows)
-        lines += ["", f"Records: out/calibrate_mc/{recorded.name}. Rerun: `python bench/calibrate_mc.py --recorded "
-                      f"--cases time_none time_coulomb --seeds 20 --workers 2` (the time-series cases only).", ""]
-    if MCV_RESULTS.exists():
-        rows = [json.loads(line) for line in MCV_RESULTS.read_text().splitlines() if line.strip()]
-        lines += ["## The steady cases on the MCV rig", "",
-                  "The motion-control valve's test rig of the real data (netlists/experiments/mcv_vf250_multistep.yaml: "
-                  "the chapter-2 VAA valve without flow force, kp free, 21 points at the thesis's three crack "
-                  "settings; Q and p2 imposed as noisy inputs, sigma 0.5 l/min and 0.3 bar; p1 and p3 compared, 0.3 "
-                  "bar). The truth: that model with kp = 895 bar/unit at the measured points' Q and p2, plus the "
-                  "planted effect. Steady points by equilibrium (`steady.method: equilibrium`, Newton from each "
-                  "point's first settling run), which makes a seed affordable here (a settling run of this rig takes "
-                  "2 to 40 ms, a Newton solve 0.15 ms: `python bench/steady_points.py`). Three candidates refitted per round (the default; the real "
-                  "data's experiment refits 8). With 21 points, 4 channels and 2 latent inputs per point nu = 84 - 43 = "
-                  f"41: the true model's chi^2/nu is in [0.8, 1.25] in {_band_rate(41)} of seeds in theory. The off-library "
-                  "effect is a p3 sensor with a curved characteristic, c*((p3 - 55 bar)/25 bar)^2: over the points' "
-                  "p3 range (31 to 80 bar) a p3 gain and offset, both in the library, take most of it, so the "
-                  "tool may well 'explain' it as a linear sensor error (the claimed column shows how often); what "
-                  "they leave is a curve in p3 against its fitted value, which the verdict's structure test (a "
-                  "cubic in each output's fitted value, Bonferroni with the other tests) reports as an "
-                  "unexplained discrepancy when it is significant. How much is left: " + _linear_sensor_leftover(rows)
-                  + " (non-central chi^2), so 'unexplained in >= 90 %' is out of reach for this effect on these "
-                  "21 points: the library's linear sensor error takes most of it. At lambda <= 3 the planted effect "
-                  "passes dBIC < -10 by its noise in " + _chance_claim(rows, "mcv_small", 84) + ".", ""] + case_rows(rows) + [""] + rec_misses(rows)
-        lines += ["", f"Records: out/calibrate_mc/{MCV_RESULTS.name}. Rerun: `python bench/calibrate_mc.py --cases "
-                      "mcv_none mcv_flow_force ... --seeds 20 --workers 2` (the MCV cases run when named).", ""]
+        lines += _section(dense, f"The steady cases with {flows} flows per setting ({3 * flows} points)", lambda rows: (
+            f"The same relief rig, settings, noise and criteria, with {flows} flows per setting evenly from "
+            f"12.5 to 87.5 l/min instead of 7; each effect sized again to lambda of about 100 (so it is "
+            f"smaller). chi^2/nu of a right model is then in [0.8, 1.25] in "
+            f"{_band_rate(3 * flows * 4 - 3 * flows - 3)} of seeds in theory. At lambda <= 3 the planted "
+            f"effect passes dBIC < -10 by its noise in {_chance_claim(rows, 'steady_small', 3 * flows * 4)}."),
+            f"`python bench/calibrate_mc.py --flows {flows} --seeds 20 --workers 2` (the steady cases only).")
+    lines += _section(OUT / "results_recorded.jsonl",
+                      "The time series with the command imposed as its recording (a latent trace)", lambda rows: (
+        "The same drive line, truths, noise and criteria; but the experiment has no command profile "
+        "of its own: the netlist's profile reads the seed's recorded command column (noise 0.005), "
+        "and the experiment lists it as `cmd: {signal: cmd, latent: trace}`, so the command is a "
+        "linear spline whose knots are chosen from the recording and whose knot times and values "
+        "are fitted with the parameters (blocks/calibrate/latent_trace.py). The truth's command steps "
+        "between samples (at 0.2 to 0.201 s and 1.6 to 1.601 s; samples every 2 ms): the knots' times "
+        "find it. The held-out reference is the truth model predicting from the same information: its "
+        "command the spline that the recording alone gives (knots at samples, as the tool starts them; "
+        "a held-out block's knots start there too). The median held-out ratio against the truth model "
+        "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + "."),
+        "`python bench/calibrate_mc.py --recorded --cases time_none time_coulomb --seeds 20 --workers 2` (the "
+        "time-series cases only).")
+    lines += _section(MCV_RESULTS, "The steady cases on the MCV rig", lambda rows: (
+        "The motion-control valve's test rig of the real data (netlists/experiments/mcv_vf250_multistep.yaml: "
+        "the chapter-2 VAA valve without flow force, kp free, 21 points at the thesis's three crack "
+        "settings; Q and p2 imposed as noisy inputs, sigma 0.5 l/min and 0.3 bar; p1 and p3 compared, 0.3 "
+        "bar). The truth: that model with kp = 895 bar/unit at the measured points' Q and p2, plus the "
+        "planted effect. Steady points by equilibrium (`steady.method: equilibrium`, Newton from each "
+        "point's first settling run), which makes a seed affordable here (a settling run of this rig takes "
+        "2 to 40 ms, a Newton solve 0.15 ms: `python bench/steady_points.py`). Three candidates refitted per "
+        "round (the default; the real data's experiment refits 8). With 21 points, 4 channels and 2 latent "
+        "inputs per point nu = 84 - 43 = "
+        f"41: the true model's chi^2/nu is in [0.8, 1.25] in {_band_rate(41)} of seeds in theory. The off-library "
+        "effect is a p3 sensor with a curved characteristic, c*((p3 - 55 bar)/25 bar)^2: over the points' "
+        "p3 range (31 to 80 bar) a p3 gain and offset, both in the library, take most of it, so the "
+        "tool may well 'explain' it as a linear sensor error (the claimed column shows how often); what "
+        "they leave is a curve in p3 against its fitted value, which the verdict's structure test (a "
+        "cubic in each output's fitted value, Bonferroni with the other tests) reports as an "
+        "unexplained discrepancy when it is significant. How much is left: " + _linear_sensor_leftover(rows)
+        + " (non-central chi^2), so 'unexplained in >= 90 %' is out of reach for this effect on these "
+        "21 points: the library's linear sensor error takes most of it. At lambda <= 3 the planted effect "
+        "passes dBIC < -10 by its noise in " + _chance_claim(rows, "mcv_small", 84) + "."),
+        "`python bench/calibrate_mc.py --cases mcv_none mcv_flow_force ... --seeds 20 --workers 2` (the MCV "
+        "cases run when named).")
     return "\n".join(lines)
+
+
+def _section(path: Path, heading: str, text, rerun: str) -> list[str]:
+    """A section of the table from one records file (none if it does not exist): its heading, ``text(rows)``,
+    the case rows, the misses in the rec column and how to rerun it."""
+    if not path.exists():
+        return []
+    rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    return [f"## {heading}", "", text(rows), ""] + case_rows(rows) + [""] + rec_misses(rows) \
+        + ["", f"Records: out/calibrate_mc/{path.name}. Rerun: {rerun}", ""]
 
 
 def case_rows(results: list[dict]) -> list[str]:
