@@ -14,8 +14,9 @@ Schemes (``heldout:`` of the experiment):
   knots of a latent trace that start inside the block start the refit from the recording alone, as a
   steady fold's latent inputs do from their readings: the fold's outputs must not have placed them).
   A time series of several runs (a grouping column, or one data file per run) is held out one run at a
-  time by ``leave_one_group_out`` or ``leave_one_experiment_out``: the run's input stays in the fit, its latent levels start the refit from the
-  netlist's values (its outputs must not have placed them) and its outputs are predicted.
+  time by ``leave_one_group_out`` or ``leave_one_experiment_out``: the run's input stays in the fit, its
+  latent levels start the refit from the netlist's values (its outputs must not have placed them) and
+  its outputs are predicted.
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
 result).
 

@@ -269,8 +269,8 @@ def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
         if ch.trace is not None:
             if runs != [None]:
                 raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: 'trace' needs one run: "
-                                f"the netlist reads the recording of the whole file, and this time series has "
-                                f"{len(runs)} groups ({exp.spec.group}); give each run its own experiment file")
+                                f"the netlist reads one recording, and this time series has {len(runs)} runs; give "
+                                f"each run its own experiment file")
             out += trace_globals(exp, data, ch, circuit)
     return out
 
