@@ -168,3 +168,17 @@ def test_time_series_and_steady_points_do_not_mix(runs_dir, tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: data: a\.csv is a time series, other files are steady "
                                    r"points", err), err
+
+
+def test_a_latent_trace_is_one_run(runs_dir, tmp_path, capsys):
+    _split_files(runs_dir, tmp_path)
+    netlist = yaml.safe_load(NETLIST.read_text())
+    netlist["components"]["cmd"]["params"] = {"times": {"csv": "a.csv", "column": "t"},
+                                              "values": {"csv": "a.csv", "column": "cmd"}}
+    (tmp_path / "recorded.yaml").write_text(yaml.safe_dump(netlist, sort_keys=False))
+    path = _experiment(tmp_path, netlist="recorded.yaml", data=["a.csv", "b.csv"], group=None, groups={},
+                       inputs={"cmd": {"signal": "cmd", "latent": "trace", "noise": 0.005}})
+    code = cli.main(["calibrate", str(path), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: inputs\.cmd\.latent: 'trace' needs one run: the netlist "
+                                   r"reads one recording, and this time series has 2 runs", err), err
