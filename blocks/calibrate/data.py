@@ -110,8 +110,9 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
                                              f"impose inputs through 'parameter', not 'signal'")
     if kind == "time" and any(c.role == "input" and c.parameter is not None for c in exp.channels):
         ch = next(c for c in exp.channels if c.role == "input" and c.parameter is not None)
-        raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: a time series imposes its inputs through a "
-                                             f"logged 'signal' with 'latent' levels, not a 'parameter'")
+        raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: {file.name} is a time series (a t column), "
+                                             f"which imposes its inputs through a logged 'signal' with 'latent' "
+                                             f"levels, not a 'parameter'")
     n = len(next(iter(table.columns.values()))) if table.columns else 0
     measured = {}
     for ch in exp.channels:
