@@ -25,7 +25,7 @@ held-out errors), and these are recorded:
 
     python bench/calibrate_mc.py --seeds 20 --workers 2          # every case, results appended as they end
     python bench/calibrate_mc.py --cases steady_flow_force --seeds 3
-    python bench/calibrate_mc.py --recorded --cases time_none time_coulomb --seeds 10
+    python bench/calibrate_mc.py --recorded --cases time_none time_coulomb --seeds 20
                                               # the time series, its command imposed as the recording
     python bench/calibrate_mc.py --table                         # the table from what has run so far
     python bench/calibrate_mc.py --examples                      # rewrite the two example data files
@@ -569,13 +569,13 @@ def table(results: list[dict]) -> str:
         "find it. The held-out reference is the truth model predicting from the same information: its "
         "command the spline that the recording alone gives (knots at samples, as the tool starts them; "
         "a held-out block's knots start there too). The median held-out ratio against the truth model "
-        "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". Ten seeds per "
-        "case (a seed takes 1 to 5 minutes here). The knots take little of the planted friction: its lambda "
+        "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". A seed takes 1 to 5 "
+        "minutes here. The knots take little of the planted friction: its lambda "
         "is 99.6 with the recording against 106 with the command's levels (`python bench/recorded_lambda.py "
         "coulomb_friction@shaft 0.1657`). A transport delay on the command shorter than a sample interval "
         "is another matter: the knots' times take it whole (`time_delay`'s 0.23 ms: lambda 108 with the "
         "levels, 1.1 with the recording), so that case is not run here. " + _recorded_misses(rows)),
-        "`python bench/calibrate_mc.py --recorded --cases time_none time_coulomb --seeds 10 --workers 2` (the "
+        "`python bench/calibrate_mc.py --recorded --cases time_none time_coulomb --seeds 20 --workers 2` (the "
         "time-series cases only).")
     lines += _section(MCV_RESULTS, "The steady cases on the MCV rig", lambda rows: (
         "The motion-control valve's test rig of the real data (netlists/experiments/mcv_vf250_multistep.yaml: "
