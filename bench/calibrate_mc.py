@@ -672,9 +672,10 @@ def _recorded_misses(rows: list[dict]) -> str:
     unexplained = sum(bool(r["unexplained"]) for r in missed)
     return (f"In {len(missed)} seed{'s' * (len(missed) > 1)} (" + ", ".join(f"{r['case']} {r['seed']}" for r in missed)
             + ") the planted effect was the best by BIC in round 1 and was not accepted, and the verdict says "
-            f"'unexplained discrepancy remains' in {unexplained} of them: the held-out test refused it (seed 2 of "
-            "time_coulomb: dBIC -96, 10 SE, but the held-out error 1.73 against 1.58 without it; on the last "
-            "block, the ramp back to standstill, 2.22 against 1.19). A held-out block's command is rebuilt from "
+            f"'unexplained discrepancy remains' in {unexplained} of them. The records do not keep why; seed 2 "
+            "of time_coulomb, rerun to see, was refused by the held-out test (dBIC -96, 10 SE, but the held-out "
+            "error 1.73 against 1.58 without it; on the last block, the ramp back to standstill, 2.22 against "
+            "1.19). A held-out block's command is rebuilt from "
             "its recording alone, whose timing is uncertain within a sample: the truth model itself predicts "
             "worse from the recording than from its true command (the median ratio above). With a recorded "
             "command the held-out test is the weak link.")
