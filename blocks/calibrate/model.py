@@ -213,17 +213,20 @@ class Model:
                             len(values[f"{profile}.times"]))
         return out
 
+    def trace_knots(self, x: np.ndarray) -> dict:
+        """Latent traces at x: profile -> (knot times s, knot values SI), in time order."""
+        return {profile: (np.where(time_index >= 0, x[np.maximum(time_index, 0)], fixed_times), x[value_index])
+                for profile, (value_index, time_index, fixed_times, _) in self.traces.items()}
+
     def _net_overrides(self, x: np.ndarray) -> dict:
         over = dict(self.fixed)
         for k, f in enumerate(self.layout.globals):
             if f.kind not in ("correction", "trace", "trace_time") and f.run is None:
                 over[f.name] = float(x[k])
-        for profile, (value_index, time_index, fixed_times, length) in self.traces.items():
+        for profile, (times, values) in self.trace_knots(x).items():
             # the spline's knots as the profile's breakpoints; the arrays keep their length, so the rest of
             # the breakpoints hold the last value beyond the knots (1 s apart)
-            times = np.where(time_index >= 0, x[np.maximum(time_index, 0)], fixed_times)
-            values = x[value_index]
-            beyond = np.arange(1.0, length - len(times) + 1.0)
+            beyond = np.arange(1.0, self.traces[profile][3] - len(times) + 1.0)
             over[f"{profile}.times"] = tuple(np.concatenate([times, times[-1] + beyond]))
             over[f"{profile}.values"] = tuple(np.concatenate([values, np.full(beyond.size, values[-1])]))
         return over

@@ -103,15 +103,14 @@ def refit_rows(rnd) -> list[dict]:
 def latent_traces(cal) -> list[dict]:
     """Per ``latent: trace`` input: its profile and the final knots (time s, value SI), in time order."""
     out = []
-    model, x = cal.final.model, cal.final.fit.x
+    knots = cal.final.model.trace_knots(cal.final.fit.x)
     for ch in cal.exp.inputs:
         if ch.trace is None:
             continue
         profile = ch.trace.rsplit(".", 1)[0]
-        value_index, time_index, fixed_times, _ = model.traces[profile]
-        times = np.where(time_index >= 0, x[np.maximum(time_index, 0)], fixed_times)
-        out.append({"column": ch.name, "profile": profile, "knots": [[float(t), float(v)] for t, v in
-                                                                     zip(times, x[value_index])]})
+        times, values = knots[profile]
+        out.append({"column": ch.name, "profile": profile,
+                    "knots": [[float(t), float(v)] for t, v in zip(times, values)]})
     return out
 
 
