@@ -5,16 +5,19 @@ be constant, refitted group by group (steady points, or the runs of a time serie
 - chi^2/nu per channel: chi^2_c / (n_c * nu / n), the degrees of freedom nu = n - p shared out in
   proportion to the channel's rows (the latent inputs' rows and parameters cancel in the count);
   p-value of the whole chi^2 with nu degrees of freedom.
-- Ljung-Box: Q = n (n + 2) sum_{k=1..h} rho_k^2 / (n - k), h = min(20, n/5), against chi^2_h (the runs of
-  a grouped time series one after the other: the h lags that straddle a run's end are few of n).
+- Ljung-Box: Q = n (n + 2) sum_{k=1..h} rho_k^2 / N_k, h = min(20, n/5), against chi^2_h, with
+  rho_k = sum e_i e_{i+k} / sum e_i^2 over the N_k pairs k samples apart *within one run* (one run:
+  N_k = n - k, the textbook form; several runs: a pair never straddles a run's end, whose neighbours are
+  not k samples apart in time, and var(rho_k) = N_k / n^2 under white residuals keeps Q chi^2_h).
 - Block means (time series): a misfit that is slow compared with the sampling spreads its chi^2 over
   thousands of samples, where chi^2/nu barely moves and the autocorrelations stay small; the means of the
   normalised residuals over blocks of m consecutive samples gather it: z_b = sum_{k in b} r_k / sqrt(m) is
   N(0, 1) for white residuals, and chi^2_blocks = sum over blocks and output channels of z_b^2 is tested
-  against chi^2 with (blocks x channels - p) degrees of freedom; m = max(5, n // 64).
+  against chi^2 with (blocks x channels - p) degrees of freedom; m = max(5, n // 64); blocks are cut run by
+  run (a run's last m' < m samples are in no block).
 - Cross-correlation of the residual with each measured input: rho(l) for |l| <= h samples, against the
   99 % bound 2.58/sqrt(n) of white residuals (the input is not prewhitened: a strongly coloured input
-  widens the true bound; read it as a pointer, not a test).
+  widens the true bound; read it as a pointer, not a test); lagged pairs within one run, as for Ljung-Box.
 - Structure (steady outputs): the residuals of an output channel against its own fitted value y. A misfit
   that the chi^2 of a few dozen points cannot show (it grows by 20 on nu = 40: p = 0.02) is often a smooth
   function of y (a curved sensor, a characteristic of the wrong shape). The score test of adding the
@@ -128,11 +131,12 @@ def lack_of_fit(model: Model, res: FitResult) -> LackOfFit:
                           chi2_c, chi2_c / share if share > 0 else np.nan)
         if model.data.kind == "time" and ch.role == "output":
             e = r[sel]
-            cs.ljung_box, cs.ljung_box_p = ljung_box(e)
+            runs = run_lengths(model, sel)
+            cs.ljung_box, cs.ljung_box_p = ljung_box(e, runs=runs)
             best, lag, bound = 0.0, 0.0, 2.58 / np.sqrt(n_c)
             for inp in model.exp.inputs:
                 u = model.data.measured[inp.name][model.row_point[sel]]
-                rho, k = max_cross_correlation(e, u)
+                rho, k = max_cross_correlation(e, u, runs=runs)
                 if abs(rho) > abs(best):
                     best, lag = rho, k * float(np.median(np.diff(model.data.t)))
             cs.xcorr_max, cs.xcorr_lag, cs.xcorr_bound = best, lag, bound
@@ -171,8 +175,31 @@ def structure(model: Model, res: FitResult, channel: int, absorbable: np.ndarray
     return T, int(V.shape[1]), float(sps.chi2.sf(T, V.shape[1]))
 
 
+def run_lengths(model: Model, sel: np.ndarray) -> list[int]:
+    """The lengths of the runs among the selected rows of one channel, in row order (a time series's rows
+    follow its samples, and a run's samples are contiguous: :mod:`blocks.calibrate.data` checks it)."""
+    run_of_point = np.empty(model.data.n, dtype=int)
+    for j, points in enumerate(model.data.groups.values()):
+        run_of_point[points] = j
+    runs = run_of_point[model.row_point[sel]]
+    if runs.size == 0:
+        return []
+    cuts = np.flatnonzero(np.diff(runs)) + 1
+    return np.diff(np.concatenate([[0], cuts, [runs.size]])).tolist()
+
+
+def _segments(n: int, runs: list[int] | None) -> list[slice]:
+    if not runs:
+        return [slice(0, n)]
+    if sum(runs) != n:
+        raise ValueError(f"run lengths add up to {sum(runs)}, not to the {n} residuals")
+    ends = np.cumsum(runs)
+    return [slice(int(end - length), int(end)) for length, end in zip(runs, ends)]
+
+
 def block_means(model: Model, res: FitResult) -> tuple[float, int, float]:
-    """chi^2 of the block means of the output residuals (module docstring)."""
+    """chi^2 of the block means of the output residuals (module docstring): blocks of m samples, cut run by
+    run."""
     n = model.data.n
     m = max(5, n // 64)
     total, blocks = 0.0, 0
@@ -181,44 +208,64 @@ def block_means(model: Model, res: FitResult) -> tuple[float, int, float]:
             continue
         sel = res.rows & (model.row_channel == ci)
         r = res.r[sel]
-        k = r.size // m
-        if k == 0:
-            continue
-        z = r[: k * m].reshape(k, m).sum(axis=1) / np.sqrt(m)
-        total += float(np.sum(z * z))
-        blocks += k
+        for seg in _segments(r.size, run_lengths(model, sel)):
+            part = r[seg]
+            k = part.size // m
+            if k == 0:
+                continue
+            z = part[: k * m].reshape(k, m).sum(axis=1) / np.sqrt(m)
+            total += float(np.sum(z * z))
+            blocks += k
     dof = max(blocks - res.p, 1)
     return total, dof, float(sps.chi2.sf(total, dof))
 
 
-def ljung_box(e: np.ndarray, h: int | None = None) -> tuple[float, float]:
+def _lagged_sum(a: np.ndarray, b: np.ndarray, k: int, segments: list[slice]) -> tuple[float, int]:
+    """sum of a[i + k] * b[i] over the pairs within one segment (k >= 0), and how many pairs."""
+    total, pairs = 0.0, 0
+    for seg in segments:
+        x, y = a[seg], b[seg]
+        if x.size > k:
+            total += float(np.sum(x[k:] * y[:x.size - k]))
+            pairs += x.size - k
+    return total, pairs
+
+
+def ljung_box(e: np.ndarray, h: int | None = None, runs: list[int] | None = None) -> tuple[float, float]:
+    """Q and its p-value (module docstring); ``runs``: the lengths of consecutive runs in ``e`` (None: one)."""
     n = e.size
     h = h or max(1, min(20, n // 5))
     e = e - e.mean()
     denom = float(np.sum(e * e))
     if denom == 0.0 or n < 3:
         return 0.0, 1.0
-    q = 0.0
+    segments = _segments(n, runs)
+    q, lags = 0.0, 0
     for k in range(1, h + 1):
-        rho = float(np.sum(e[k:] * e[:-k])) / denom
-        q += rho * rho / (n - k)
+        s, pairs = _lagged_sum(e, e, k, segments)
+        if pairs == 0:
+            break
+        q += (s / denom) ** 2 / pairs
+        lags += 1
     q *= n * (n + 2)
-    return q, float(sps.chi2.sf(q, h))
+    return q, float(sps.chi2.sf(q, lags)) if lags else 1.0
 
 
-def max_cross_correlation(e: np.ndarray, u: np.ndarray, h: int | None = None) -> tuple[float, int]:
+def max_cross_correlation(e: np.ndarray, u: np.ndarray, h: int | None = None,
+                          runs: list[int] | None = None) -> tuple[float, int]:
+    """The largest |rho(l)| of e(k) against u(k - l), |l| <= h, and its lag l in samples; pairs within one
+    run."""
     n = e.size
     h = h or max(1, min(20, n // 5))
     a, b = e - e.mean(), u - u.mean()
     sa, sb = np.sqrt(np.sum(a * a)), np.sqrt(np.sum(b * b))
     if sa == 0 or sb == 0:
         return 0.0, 0
+    segments = _segments(n, runs)
     best, lag = 0.0, 0
     for k in range(-h, h + 1):
-        if k >= 0:
-            rho = np.sum(a[k:] * b[:n - k]) / (sa * sb)
-        else:
-            rho = np.sum(a[:n + k] * b[-k:]) / (sa * sb)
+        s = _lagged_sum(a, b, k, segments)[0] if k >= 0 else _lagged_sum(b, a, -k, segments)[0]
+        rho = s / (sa * sb)
         if abs(rho) > abs(best):
             best, lag = float(rho), k
     return best, lag

@@ -4,6 +4,7 @@ patches write."""
 from __future__ import annotations
 
 from pathlib import Path
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -15,7 +16,7 @@ from blocks.calibrate.experiment import load_experiment
 from blocks.calibrate.model import Model
 from blocks.calibrate.patch import NetlistDoc
 from blocks.calibrate.run import Stage, context
-from blocks.calibrate.stats import ljung_box, max_cross_correlation
+from blocks.calibrate.stats import block_means, ljung_box, max_cross_correlation
 from blocks.circuit import Circuit
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -42,6 +43,59 @@ def test_ljung_box_tells_white_from_coloured_noise():
     for k in range(1, 2000):
         ar[k] = 0.5 * ar[k - 1] + white[k]
     assert ljung_box(white)[1] > 0.01 and ljung_box(ar)[1] < 1e-10
+
+
+def test_ljung_box_with_runs_by_hand():
+    """Two runs: the lagged products are summed within each run, over N_k pairs."""
+    a = np.array([1.0, -2.0, 0.5, 3.0, -1.0])
+    b = np.array([0.0, 2.0, -0.5, 1.5, -3.0, 2.5])
+    e = np.concatenate([a, b])
+    d = e - e.mean()
+    da, db = d[:5], d[5:]
+    q = 0.0
+    for k in (1, 2):
+        pairs = (5 - k) + (6 - k)
+        q += ((np.sum(da[k:] * da[:-k]) + np.sum(db[k:] * db[:-k])) / np.sum(d * d)) ** 2 / pairs
+    q *= e.size * (e.size + 2)
+    got, _ = ljung_box(e, h=2, runs=[5, 6])
+    assert got == pytest.approx(q, rel=1e-12)
+    assert ljung_box(e, h=2, runs=[11]) == ljung_box(e, h=2)  # one run: the textbook form
+
+
+def test_ljung_box_lags_never_straddle_a_run_end():
+    """Runs that each begin and end on the same large value: white within a run, but a run's last sample
+    and the next one's first are alike. Counted across the end, that reads as colour."""
+    rng = np.random.default_rng(3)
+    runs = []
+    for _ in range(50):
+        run = rng.normal(size=30)
+        run[0] = run[-1] = 3.0
+        runs.append(run)
+    e = np.concatenate(runs)
+    assert ljung_box(e, h=5)[1] < 1e-6
+    assert ljung_box(e, h=5, runs=[30] * 50)[1] > 0.01
+
+
+def test_cross_correlation_pairs_within_runs():
+    e = np.array([0.0, 0.0, 1.0, 0.0, 0.0, 0.0])
+    u = np.array([0.0, 0.0, 0.0, 1.0, 0.0, 0.0])  # e(k) = u(k + 1): lag -1, within the one run
+    assert max_cross_correlation(e, u, h=2)[1] == -1
+    rho, _ = max_cross_correlation(e, u, h=2, runs=[3, 3])  # the pair straddles the runs' end
+    assert max_cross_correlation(e, u, h=2)[0] > 0.95 and abs(rho) < 0.4
+
+
+def test_block_means_cut_run_by_run():
+    """Blocks of m = 5 samples within each run of 12: 2 blocks each, the last 2 samples of a run in none."""
+    n, m = 36, 5
+    r = np.arange(n, dtype=float) % 7 - 3.0
+    model = SimpleNamespace(data=SimpleNamespace(n=n, groups={"a": np.arange(0, 12), "b": np.arange(12, 24),
+                                                              "c": np.arange(24, 36)}),
+                            channels=[SimpleNamespace(role="output")], row_channel=np.zeros(n, dtype=int),
+                            row_point=np.arange(n))
+    res = SimpleNamespace(rows=np.ones(n, dtype=bool), r=r, p=1)
+    z = [r[s:s + m].sum() / np.sqrt(m) for start in (0, 12, 24) for s in (start, start + m)]
+    chi2, dof, _ = block_means(model, res)
+    assert chi2 == pytest.approx(float(np.sum(np.square(z))), rel=1e-12) and dof == 6 - 1
 
 
 def test_cross_correlation_finds_the_lag():
