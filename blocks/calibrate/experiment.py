@@ -40,7 +40,8 @@ A recorded input trace can instead be imposed by the netlist itself: a ``profile
 values read the data file's columns (``times: {csv: data.csv, column: t}``, ``values: {csv: data.csv,
 column: cmd}``). Listed under ``inputs:`` with ``latent: trace`` (``cmd: {signal: cmd, latent: trace,
 noise: 0.005}``), the recording is a noisy reading of a latent linear spline whose knots are fitted
-(:mod:`blocks.calibrate.latent_trace`; the profile's breakpoints are replaced by the knots). Not listed,
+(:mod:`blocks.calibrate.latent_trace`; the profile's breakpoints are replaced by the knots; with several
+runs, one data file each, the netlist reads one of them and each run gets the knots of its own recording). Not listed,
 such a column is imposed exactly, its measurement noise not accounted for; the report names it
 (:func:`read_by_netlist`), and the verdict does when a discrepancy remains.
 """
@@ -159,7 +160,7 @@ class Free:
     unit: str  # display unit
     kind: str = "declared"  # declared, latent, trace, candidate, correction
     at: float | None = None  # a latent trace's knot value (kind "trace"): the knot's start time, s
-    run: str | None = None  # a latent level of one run of a grouped time series (name "<parameter>[<run>]")
+    run: str | None = None  # a latent level or knot of one run of a grouped time series (name "<...>[<run>]")
 
 
 @dataclass

@@ -15,8 +15,8 @@ Schemes (``heldout:`` of the experiment):
   steady fold's latent inputs do from their readings: the fold's outputs must not have placed them).
   A time series of several runs (a grouping column, or one data file per run) is held out one run at a
   time by ``leave_one_group_out`` or ``leave_one_experiment_out``: the run's input stays in the fit, its
-  latent levels start the refit from the netlist's values (its outputs must not have placed them) and
-  its outputs are predicted.
+  latent levels start the refit from the netlist's values and its trace's knots from its recording alone
+  (its outputs must not have placed them), and its outputs are predicted.
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
 result).
 
@@ -86,6 +86,17 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
     return f"{k} contiguous blocks of the time series{note}", [(f"block {i + 1}", p) for i, p in enumerate(parts)]
 
 
+def knot_in_block(model: Model, knot, idx: np.ndarray) -> bool:
+    """Whether a latent trace's knot (its value's or its time's global) starts within the time span that
+    the held-out samples ``idx`` cover in the knot's run (the whole series for a series of one run)."""
+    if knot.run is not None:
+        idx = idx[np.isin(idx, model.data.groups[knot.run])]
+    if idx.size == 0:
+        return False
+    start = knot.initial if knot.at is None else knot.at
+    return bool(model.data.t[idx[0]] <= start <= model.data.t[idx[-1]])
+
+
 def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: int = 5) -> HeldOut:
     scheme, folds = make_folds(model, spec)
     outputs = model.output_rows()
@@ -105,11 +116,9 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
                     x0[j] = model.data.measured[ch][int(k)]
         else:
             train = res.rows & ~(fold_rows & outputs)
-            start, end = model.data.t[idx[0]], model.data.t[idx[-1]]
             whole = {label for label, rows in model.data.groups.items() if np.isin(rows, idx).all()}
             for j, g in enumerate(model.layout.globals):
-                if g.kind in ("trace", "trace_time") and start <= (g.initial if g.at is None else g.at) <= end \
-                        or g.run in whole:
+                if g.kind in ("trace", "trace_time") and knot_in_block(model, g, idx) or g.run in whole:
                     x0[j] = g.initial
         f = fit(model, x0, active, train, max_nfev=max_nfev)
         for _ in range(attempts - 1):

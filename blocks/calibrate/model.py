@@ -42,7 +42,8 @@ included) reads the same run length, so the residual is a function of x alone, w
 before (an optimiser needs that). Points unsettled at their fixed length are counted and reported (never
 silently used as if steady).
 Time series: one run per group of the data (one without a grouping column), with the group's parameter
-values and, with several runs, each run's own latent levels; logged signals are interpolated linearly
+values and, with several runs, each run's own latent levels or latent trace knots (the profile that reads
+the recording gets each run's knots as its breakpoints for that run); logged signals are interpolated linearly
 onto the data's times, which must lie inside the simulated span.
 """
 
@@ -195,40 +196,50 @@ class Model:
 
     # ---- overrides and simulation ---------------------------------------------------------------------
     def _traces(self, globals_: list[Free]) -> dict:
-        """Latent traces: profile -> (x indices of its knot values, of its knot times (-1: fixed), the fixed
-        times, the length of the profile's arrays), for :meth:`_net_overrides`."""
+        """Latent traces: (profile, run) -> (x indices of its knot values, of its knot times (-1: fixed), the
+        fixed times, the length of the profile's arrays), for :meth:`_trace_overrides`; run None for a series
+        of one run, else each run's own knots."""
         knots: dict = {}
         for k, f in enumerate(globals_):
             if f.kind in ("trace", "trace_time"):
                 param, label = f.name.split("[", 1)
-                entry = knots.setdefault(param.rsplit(".", 1)[0], {}).setdefault(label, [-1, -1, f.at])
+                entry = knots.setdefault((param.rsplit(".", 1)[0], f.run), {}).setdefault(label, [-1, -1, f.at])
                 entry[0 if f.kind == "trace" else 1] = k
         if not knots:
             return {}
         values = self.circuit.flat.parameters.evaluate(self.fixed)
         out = {}
-        for profile, members in knots.items():
+        for (profile, run), members in knots.items():
             table = np.array([(v, t, np.nan if at is None else at) for v, t, at in members.values()])
-            out[profile] = (table[:, 0].astype(int), table[:, 1].astype(int), table[:, 2],
-                            len(values[f"{profile}.times"]))
+            out[profile, run] = (table[:, 0].astype(int), table[:, 1].astype(int), table[:, 2],
+                                 len(values[f"{profile}.times"]))
         return out
 
     def trace_knots(self, x: np.ndarray) -> dict:
-        """Latent traces at x: profile -> (knot times s, knot values SI), in time order."""
-        return {profile: (np.where(time_index >= 0, x[np.maximum(time_index, 0)], fixed_times), x[value_index])
-                for profile, (value_index, time_index, fixed_times, _) in self.traces.items()}
+        """Latent traces at x: (profile, run) -> (knot times s, knot values SI), in time order (run None: a
+        series of one run)."""
+        return {key: (np.where(time_index >= 0, x[np.maximum(time_index, 0)], fixed_times), x[value_index])
+                for key, (value_index, time_index, fixed_times, _) in self.traces.items()}
+
+    def _trace_overrides(self, x: np.ndarray, run: str | None) -> dict:
+        """The breakpoints of each profile that a latent trace of ``run`` drives: the spline's knots; the
+        arrays keep their length, so the rest of the breakpoints hold the last value beyond the knots (1 s
+        apart)."""
+        over = {}
+        for (profile, of_run), (times, values) in self.trace_knots(x).items():
+            if of_run != run:
+                continue
+            beyond = np.arange(1.0, self.traces[profile, run][3] - len(times) + 1.0)
+            over[f"{profile}.times"] = tuple(np.concatenate([times, times[-1] + beyond]))
+            over[f"{profile}.values"] = tuple(np.concatenate([values, np.full(beyond.size, values[-1])]))
+        return over
 
     def _net_overrides(self, x: np.ndarray) -> dict:
         over = dict(self.fixed)
         for k, f in enumerate(self.layout.globals):
             if f.kind not in ("correction", "trace", "trace_time") and f.run is None:
                 over[f.name] = float(x[k])
-        for profile, (times, values) in self.trace_knots(x).items():
-            # the spline's knots as the profile's breakpoints; the arrays keep their length, so the rest of
-            # the breakpoints hold the last value beyond the knots (1 s apart)
-            beyond = np.arange(1.0, self.traces[profile][3] - len(times) + 1.0)
-            over[f"{profile}.times"] = tuple(np.concatenate([times, times[-1] + beyond]))
-            over[f"{profile}.values"] = tuple(np.concatenate([values, np.full(beyond.size, values[-1])]))
+        over.update(self._trace_overrides(x, None))
         return over
 
     def _corrections(self, x: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -380,12 +391,14 @@ class Model:
         return out
 
     def _run_overrides(self, label: str, base: dict, x: np.ndarray) -> dict:
-        """One run of a time series: the overrides of every run, its group's values and its latent levels."""
+        """One run of a time series: the overrides of every run, its group's values, its latent levels and
+        its latent traces' knots."""
         over = dict(base)
         over.update(self.exp.groups.get(label, {}))
         for k, f in enumerate(self.layout.globals):
-            if f.run == label:
+            if f.run == label and f.kind == "latent":
                 over[f.name.rsplit("[", 1)[0]] = float(x[k])
+        over.update(self._trace_overrides(x, label))
         return over
 
     def _run_signals(self, label: str, over: dict, idx: np.ndarray) -> np.ndarray:

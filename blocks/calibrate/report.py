@@ -101,16 +101,18 @@ def refit_rows(rnd) -> list[dict]:
 
 
 def latent_traces(cal) -> list[dict]:
-    """Per ``latent: trace`` input: its profile and the final knots (time s, value SI), in time order."""
+    """Per ``latent: trace`` input (and run, with several): its profile and the final knots (time s, value
+    SI), in time order."""
     out = []
     knots = cal.final.model.trace_knots(cal.final.fit.x)
     for ch in cal.exp.inputs:
         if ch.trace is None:
             continue
         profile = ch.trace.rsplit(".", 1)[0]
-        times, values = knots[profile]
-        out.append({"column": ch.name, "profile": profile,
-                    "knots": [[float(t), float(v)] for t, v in zip(times, values)]})
+        for (of_profile, run), (times, values) in knots.items():
+            if of_profile == profile:
+                out.append({"column": ch.name, "profile": profile, "run": run,
+                            "knots": [[float(t), float(v)] for t, v in zip(times, values)]})
     return out
 
 
@@ -170,10 +172,12 @@ def markdown(cal, info: dict) -> str:
           f"- imposed inputs: {', '.join(c.name for c in exp.inputs) or 'none'} (errors-in-variables: the true "
           f"inputs are fitted as latent values); compared: {', '.join(c.name for c in exp.outputs)}"]
     for tr in info["latent_traces"]:
-        L.append(f"- latent trace of {tr['column']}: the recording is taken as a noisy reading of a linear spline "
-                 f"through {len(tr['knots'])} knots, chosen from the recording, their times and values fitted "
-                 f"(`{tr['profile']}.times[knot j]`, `{tr['profile']}.values[knot j]` under Parameters; "
-                 f"`latent_trace.png`); knots at t = {', '.join(f'{t:.4g}' for t, _ in tr['knots'])} s")
+        of_run, suffix = ("", "") if tr["run"] is None else (f" in run {tr['run']}", f"[{tr['run']}]")
+        L.append(f"- latent trace of {tr['column']}{of_run}: the recording is taken as a noisy reading of a linear "
+                 f"spline through {len(tr['knots'])} knots, chosen from the recording, their times and values "
+                 f"fitted (`{tr['profile']}.times[knot j]{suffix}`, `{tr['profile']}.values[knot j]{suffix}` under "
+                 f"Parameters; `latent_trace.png`); knots at t = "
+                 f"{', '.join(f'{t:.4g}' for t, _ in tr['knots'])} s")
     if exp.exact_columns:
         L.append("- imposed exactly, read from the data by the netlist (their noise is not accounted for): "
                  + ", ".join(f"{column} -> `{param}`" for column, param in exp.exact_columns))
@@ -380,25 +384,28 @@ def plot_residuals(cal, path: Path) -> None:
 
 
 def plot_latent_traces(cal, traces: list[dict], path: Path) -> None:
-    """Per latent trace: the recording, the fitted spline and its knots against t, and the recording's
-    residual from the spline in its noise sigmas."""
+    """Per latent trace (and run): the recording, the fitted spline and its knots against t, and the
+    recording's residual from the spline in its noise sigmas."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2 * len(traces), 1, figsize=(11, 5.0 * len(traces)), squeeze=False, sharex="col")
-    t = cal.data.t
+    fig, axes = plt.subplots(2 * len(traces), 1, figsize=(11, 5.0 * len(traces)), squeeze=False)
     for k, tr in enumerate(traces):
         ch = next(c for c in cal.exp.inputs if c.name == tr["column"])
         f = _factor(ch.unit) if ch.unit not in ("", "1") else 1.0
         knot_t, knot_u = np.array(tr["knots"]).T
-        recorded = cal.data.measured[ch.name]
+        idx = np.arange(cal.data.n) if tr["run"] is None else cal.data.groups[tr["run"]]
+        t, recorded = cal.data.t[idx], cal.data.measured[ch.name][idx]
         spline = np.interp(t, knot_t, knot_u)
         top, bottom = axes[2 * k, 0], axes[2 * k + 1, 0]
         top.plot(t, recorded / f, ".", ms=1.5, color="grey", label="recorded")
         top.plot(knot_t, knot_u / f, "-o", ms=3, lw=1.0, color="C3", label=f"latent spline ({len(knot_t)} knots)")
         top.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
+        if tr["run"] is not None:
+            top.set_title(f"run {tr['run']}", fontsize="small")
+        bottom.sharex(top)
         top.legend(fontsize="small")
         bottom.plot(t, (recorded - spline) / cal.data.sigma[ch.name], ".", ms=1.5)
         for level in (-2, 2):
@@ -406,7 +413,8 @@ def plot_latent_traces(cal, traces: list[dict], path: Path) -> None:
         bottom.set_ylabel(f"{ch.name}: (recorded - spline) / sigma", fontsize="small")
         for ax in (top, bottom):
             ax.grid(True, alpha=0.3)
-    axes[-1, 0].set_xlabel("t [s]")
+    for ax in axes[1::2, 0]:
+        ax.set_xlabel("t [s]")
     fig.suptitle(f"{Path(cal.exp.file).name}: latent input traces, final fit", fontsize="medium")
     fig.tight_layout()
     atomic_write_figure(fig, path)

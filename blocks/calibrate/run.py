@@ -248,8 +248,9 @@ def _adopt(cal: Calibration, stage: Stage, netlist: Path, globals_: list[Free]) 
 def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
     """The latent values of time-series inputs as free globals: the levels of a command profile (netlist
     parameters; with several runs, one set per run, ``<level>[<run>]``, starting at the run's netlist
-    value), or the knots of a recorded trace (``latent: trace``, :mod:`blocks.calibrate.latent_trace`; an
-    error naming the input if the recording needs too many knots, or if the series has several runs)."""
+    value), or the knots of a recorded trace (``latent: trace``, :mod:`blocks.calibrate.latent_trace`; with
+    several runs, each run's own knots, chosen from its own recording; an error naming the input if a
+    recording needs too many knots)."""
     out = []
     if data.kind != "time":
         return out
@@ -267,41 +268,48 @@ def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
                 out.append(Free(name if run is None else f"{name}[{run}]", start, -np.inf, np.inf, 0.1 * sigma,
                                 display_unit(circuit.flat.parameters.entries[name]), "latent", run=run))
         if ch.trace is not None:
-            if runs != [None]:
-                raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: 'trace' needs one run: "
-                                f"the netlist reads one recording, and this time series has {len(runs)} runs; give "
-                                f"each run its own experiment file")
-            out += trace_globals(exp, data, ch, circuit)
+            times = np.asarray(values[ch.trace.rsplit(".", 1)[0] + ".times"], dtype=float)
+            if runs != [None] and not np.all(np.diff(times) > 0):
+                raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace: the netlist's "
+                                f"profile reads the times of a file of several runs, which go back at each run's "
+                                f"start; give each run its own data file (data: [a.csv, b.csv]) and let the "
+                                f"netlist read one of them (each run gets its own knots)")
+            for run in runs:
+                out += trace_globals(exp, data, ch, circuit, run)
     return out
 
 
-def trace_globals(exp: Experiment, data: Dataset, ch, circuit) -> list[Free]:
+def trace_globals(exp: Experiment, data: Dataset, ch, circuit, run: str | None = None) -> list[Free]:
     """The knots of a latent trace (:mod:`blocks.calibrate.latent_trace`) as free globals: each knot's value
     (``<profile>.values[knot j]``) and, but for the first and last, its time (``<profile>.times[knot j]``),
-    bounded halfway to its neighbours' start times so that the knots keep their order. An error naming the
-    input if the recording needs too many knots."""
-    measured, sigma = data.measured[ch.name], data.sigma[ch.name]
+    bounded halfway to its neighbours' start times so that the knots keep their order. With several runs,
+    ``run``'s knots, chosen from its samples alone and named ``<profile>.values[knot j][<run>]``. An error
+    naming the input (and the run) if the recording needs too many knots."""
+    idx = np.arange(data.n) if run is None else data.groups[run]
+    t, measured, sigma = data.t[idx], data.measured[ch.name][idx], data.sigma[ch.name]
+    of_run = "" if run is None else f" (run '{run}')"
     try:
-        knots = choose_knots(data.t, measured, sigma)
+        knots = choose_knots(t, measured, sigma)
     except ValueError as exc:
-        raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace: {exc}; impose it "
-                        f"exactly (no latent:) or model the command by its levels") from None
+        raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace{of_run}: {exc}; impose "
+                        f"it exactly (no latent:) or model the command by its levels") from None
     profile = ch.trace.rsplit(".", 1)[0]
     length = len(circuit.flat.parameters.evaluate({})[f"{profile}.times"])
     if len(knots) > length:
-        raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace: {len(knots)} knots, "
-                        f"more than the {length} breakpoints of the profile '{profile}'")
-    times = data.t[knots]
-    gap = 1e-3 * float(np.min(np.diff(data.t)))
+        raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace{of_run}: {len(knots)} "
+                        f"knots, more than the {length} breakpoints of the profile '{profile}'")
+    times = t[knots]
+    gap = 1e-3 * float(np.min(np.diff(t)))
     middles = 0.5 * (times[:-1] + times[1:])
+    suffix = "" if run is None else f"[{run}]"
     out = []
-    for j, (at, z) in enumerate(zip(times, knot_values(data.t, measured, knots)), start=1):
-        out.append(Free(f"{profile}.values[knot {j}]", float(z), -np.inf, np.inf, 0.1 * sigma, "", "trace",
-                        at=float(at)))
+    for j, (at, z) in enumerate(zip(times, knot_values(t, measured, knots)), start=1):
+        out.append(Free(f"{profile}.values[knot {j}]{suffix}", float(z), -np.inf, np.inf, 0.1 * sigma, "", "trace",
+                        at=float(at), run=run))
         if 1 < j < len(times):
-            out.append(Free(f"{profile}.times[knot {j}]", float(at), float(middles[j - 2] + gap),
-                            float(middles[j - 1] - gap), 0.05 * float(np.median(np.diff(data.t))), "s",
-                            "trace_time"))
+            out.append(Free(f"{profile}.times[knot {j}]{suffix}", float(at), float(middles[j - 2] + gap),
+                            float(middles[j - 1] - gap), 0.05 * float(np.median(np.diff(t))), "s",
+                            "trace_time", run=run))
     return out
 
 

@@ -170,15 +170,115 @@ def test_time_series_and_steady_points_do_not_mix(runs_dir, tmp_path, capsys):
                                    r"points", err), err
 
 
-def test_a_latent_trace_is_one_run(runs_dir, tmp_path, capsys):
+def _recorded_runs(runs_dir: Path, tmp_path: Path, **changes) -> Path:
+    """The two runs as two files, the netlist's command profile reading run a's recording (its breakpoints
+    are replaced by each run's knots), the command a latent trace."""
     _split_files(runs_dir, tmp_path)
     netlist = yaml.safe_load(NETLIST.read_text())
     netlist["components"]["cmd"]["params"] = {"times": {"csv": "a.csv", "column": "t"},
                                               "values": {"csv": "a.csv", "column": "cmd"}}
     (tmp_path / "recorded.yaml").write_text(yaml.safe_dump(netlist, sort_keys=False))
-    path = _experiment(tmp_path, netlist="recorded.yaml", data=["a.csv", "b.csv"], group=None, groups={},
+    spec = dict(netlist="recorded.yaml", data=["a.csv", "b.csv"], group=None,
+                inputs={"cmd": {"signal": "cmd", "latent": "trace", "noise": 0.005}})
+    spec.update(changes)
+    return _experiment(tmp_path, **spec)
+
+
+def _recorded_model(runs_dir, tmp_path, **changes):
+    from blocks.calibrate.model import Model
+    from blocks.circuit import Circuit
+
+    exp = load_experiment(_recorded_runs(runs_dir, tmp_path, **changes))
+    data = load_data(exp)
+    return exp, data, Model(Circuit.from_file(exp.netlist), exp, data, exp.free + latent_globals(exp, data))
+
+
+def test_each_run_has_its_own_latent_trace(runs_dir, tmp_path):
+    """Each run's knots are chosen from its own recording, and that run alone is simulated with them."""
+    exp, data, model = _recorded_model(runs_dir, tmp_path)
+    knots = [g for g in model.layout.globals if g.kind in ("trace", "trace_time")]
+    assert {g.run for g in knots} == {"a", "b"}
+    assert all(g.name.endswith(f"[{g.run}]") for g in knots)
+    x = model.initial()
+    n = data.n // 2
+    for label, idx in data.groups.items():
+        mine = [g for g in knots if g.run == label and g.kind == "trace"]
+        over = model._run_overrides(label, model._net_overrides(x), x)
+        m = len(mine)
+        assert over["cmd.values"][:m] == pytest.approx([g.initial for g in mine])
+        assert over["cmd.times"][0] == data.t[idx[0]] and over["cmd.times"][m - 1] == data.t[idx[-1]]
+        # the input's rows of this run: its own spline, within its noise of its own recording
+        spline = np.interp(data.t[idx], over["cmd.times"][:m], over["cmd.values"][:m])
+        assert model.predictions(x)[idx] == pytest.approx(spline, abs=1e-9)
+        assert np.std(spline - data.measured["cmd"][idx]) < 1.2 * 0.005
+    # the two runs' levels differ (0.1/0.2/-0.15 and 0.15/0.25/-0.1): each spline follows its own run
+    a, b = (model.predictions(x)[idx] for idx in data.groups.values())
+    assert np.max(np.abs(a[:n] - b[:n])) > 0.04
+
+
+def test_a_held_out_run_restarts_its_own_knots_only(runs_dir, tmp_path, monkeypatch):
+    """Leave one run out: the held-out run's knots start from its recording alone, the other run's stay
+    where the full fit put them; contiguous blocks: only the knots of the block's run within its span."""
+    from types import SimpleNamespace
+
+    import blocks.calibrate.heldout as heldout_module
+
+    for scheme in ({"scheme": "leave_one_experiment_out"}, {"scheme": "kfold", "k": 4}):
+        (tmp_path / scheme["scheme"]).mkdir()
+        exp, data, model = _recorded_model(runs_dir, tmp_path / scheme["scheme"], heldout=scheme)
+        moved = model.initial() + 1e-4
+        starts = []
+        monkeypatch.setattr(heldout_module, "fit", lambda m, x0, active, rows, max_nfev: starts.append(x0.copy())
+                            or SimpleNamespace(x=x0, r=np.zeros(m.n_rows), converged=True))
+        full = SimpleNamespace(x=moved, active=np.ones(moved.size, dtype=bool),
+                               rows=np.ones(model.n_rows, dtype=bool))
+        heldout_module.heldout(model, full, exp.spec.heldout)
+        _, folds = heldout_module.make_folds(model, exp.spec.heldout)
+        assert len(folds) == (2 if scheme["scheme"] != "kfold" else 4)
+        for (_, idx), x0 in zip(folds, starts):
+            restarted = set()
+            for j, g in enumerate(model.layout.globals):
+                if g.kind not in ("trace", "trace_time"):
+                    continue
+                mine = np.intersect1d(idx, data.groups[g.run])
+                start = g.initial if g.at is None else g.at
+                inside = mine.size > 0 and data.t[mine[0]] <= start <= data.t[mine[-1]]
+                assert x0[j] == (g.initial if inside else moved[j]), g.name
+                if inside:
+                    restarted.add(g.run)
+            assert restarted == {label for label, rows in data.groups.items() if np.isin(idx, rows).any()}
+
+
+def test_two_recorded_runs_calibrate_together(runs_dir, tmp_path):
+    cal = calibrate(_recorded_runs(runs_dir, tmp_path, trace={"rounds": 1, "only": ["coulomb_friction"]}),
+                    tmp_path / "out", with_heldout=False)
+    assert [a[0] for a in cal.accepted] == ["coulomb_friction@shaft"]
+    final = cal.final
+    x, se = final.fit.x, final.fit.se
+    for name, truth in (("cal_Tc_shaft", 3.0), ("m_load", 7500.0)):
+        k = final.model.layout.index(name)
+        assert abs(x[k] - truth) < 3.0 * se[k], f"{name} = {x[k]} +- {se[k]}, truth {truth}"
+    assert final.lof.reduced < 1.1 and not verdict(cal)[1]
+    from blocks.calibrate.report import write
+
+    paths = write(cal, tmp_path / "out")
+    text = paths["markdown"].read_text()
+    assert "latent trace of cmd in run a" in text and "latent trace of cmd in run b" in text
+    assert paths["traces"].stat().st_size > 0
+
+
+def test_a_latent_trace_of_several_runs_needs_a_file_per_run(runs_dir, tmp_path, capsys):
+    """The netlist's profile must read a recording whose times increase: with one file of several runs
+    they go back at each run's start (the error comes before any fitting)."""
+    (tmp_path / "runs.csv").write_text((runs_dir / "runs.csv").read_text())
+    netlist = yaml.safe_load(NETLIST.read_text())
+    netlist["components"]["cmd"]["params"] = {"times": {"csv": "runs.csv", "column": "t"},
+                                              "values": {"csv": "runs.csv", "column": "cmd"}}
+    (tmp_path / "recorded.yaml").write_text(yaml.safe_dump(netlist, sort_keys=False))
+    path = _experiment(tmp_path, netlist="recorded.yaml",
                        inputs={"cmd": {"signal": "cmd", "latent": "trace", "noise": 0.005}})
     code = cli.main(["calibrate", str(path), "-o", str(tmp_path / "out")])
     err = capsys.readouterr().err.strip()
-    assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: inputs\.cmd\.latent: 'trace' needs one run: the netlist "
-                                   r"reads one recording, and this time series has 2 runs", err), err
+    assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: inputs\.cmd\.latent: trace: the netlist's profile reads "
+                                   r"the times of a file of several runs", err), err
+    assert not (tmp_path / "out").exists()
