@@ -1,9 +1,11 @@
 """A safe evaluator for the arithmetic in netlists: ``"0.085 + m_load*r_p**2/n_g**2"``.
 
 Only numbers, parameter names, + - * / ** %, unary signs, parentheses, comparisons inside ``min``/``max``
-style calls and a fixed table of math functions are accepted. The text is parsed with :mod:`ast` and walked
-by hand; ``eval`` is never called, attribute access, subscripts, lambdas and everything else are refused,
-so a netlist can run no code. All numbers are floats, so ``9**9**9`` overflows at once instead of hanging.
+style calls and a fixed table of math functions are accepted. A name may be dotted, ``supply.p``: a
+parameter of a component (or a net's ``initial``, ``volume``) of the same netlist, read as one name. The
+text is parsed with :mod:`ast` and walked by hand; ``eval`` is never called, subscripts, lambdas and
+everything else are refused, so a netlist can run no code. All numbers are floats, so ``9**9**9``
+overflows at once instead of hanging.
 """
 
 from __future__ import annotations
@@ -77,6 +79,8 @@ def _check(node: ast.AST, text: str, names: set[str], depth: int = 0) -> None:
     if isinstance(node, ast.Constant):
         if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
             raise ExpressionError(f"only numbers are allowed in '{text}', not {node.value!r}")
+    elif isinstance(node, ast.Attribute):
+        names.add(dotted_name(node, text))
     elif isinstance(node, ast.Name):
         if node.id not in CONSTANTS and node.id not in FUNCTIONS:
             names.add(node.id)
@@ -99,9 +103,27 @@ def _check(node: ast.AST, text: str, names: set[str], depth: int = 0) -> None:
         raise ExpressionError(f"'{type(node).__name__}' is not allowed in expression '{text}'")
 
 
+def dotted_name(node: ast.Attribute, text: str) -> str:
+    """``supply.p`` (an attribute chain on a name) as the one name "supply.p"; anything else is refused."""
+    parts = []
+    while isinstance(node, ast.Attribute):
+        parts.append(node.attr)
+        node = node.value
+    if not isinstance(node, ast.Name) or any(part.startswith("_") for part in parts):
+        raise ExpressionError(f"attribute access is not allowed in expression '{text}' (a dotted name reads a "
+                              f"component's parameter of the same netlist, as in supply.p)")
+    return ".".join([node.id] + parts[::-1])
+
+
 def _walk(node: ast.AST, values: dict[str, float]) -> float:
     if isinstance(node, ast.Constant):
         return float(node.value)
+    if isinstance(node, ast.Attribute):
+        name = dotted_name(node, "")
+        try:
+            return values[name]
+        except KeyError:
+            raise ExpressionError(f"unknown parameter '{name}'") from None
     if isinstance(node, ast.Name):
         if node.id in CONSTANTS:
             return CONSTANTS[node.id]

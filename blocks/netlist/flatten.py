@@ -236,6 +236,13 @@ class _Builder:
                 if raw is not None:
                     self.table.add(make_entry(f"{qualified}.{key}", raw, unit, scope, located, ("nets", name, key),
                                               NET_BOUNDS.get(key)))
+        # the component parameters and net values of this file, readable by their dotted names (supply.p,
+        # A.initial) in its expressions; the entries above hold this same scope, so they see them too
+        own = tuple(prefix + name + "." for name in (*netlist.components, *netlist.nets))
+        for qualified in self.table.entries:
+            local = qualified[len(prefix):]
+            if qualified.startswith(own) and local.count(".") == 1:
+                scope.setdefault(local, qualified)
         for exposed, ref in netlist.ports.items():
             self.aliases[prefix + exposed] = prefix + ref
 

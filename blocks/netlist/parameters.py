@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import networkx as nx
 
 from blocks.errors import NetlistError, VphsError
-from blocks.expressions import Expression, ExpressionError, parse_expression
+from blocks.expressions import Expression, ExpressionError, dotted_name, parse_expression
 from blocks.netlist.yaml_source import Located
 from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, nearest, parse_unit, quantity, split_quantity,
                           substitute_quantities)
@@ -167,10 +167,11 @@ def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
     """The dimension of an expression: a Unit, or FREE for a pure number."""
     if isinstance(node, ast.Constant):
         return FREE
-    if isinstance(node, ast.Name):
-        if node.id in entry.literals:
-            return entry.literals[node.id][1]
-        target = entry.scope.get(node.id)
+    if isinstance(node, (ast.Name, ast.Attribute)):
+        name = node.id if isinstance(node, ast.Name) else dotted_name(node, entry.written)
+        if name in entry.literals:
+            return entry.literals[name][1]
+        target = entry.scope.get(name)
         return known.get(target, FREE) if target is not None else FREE
     if isinstance(node, ast.UnaryOp):
         return _infer(node.operand, entry, known)

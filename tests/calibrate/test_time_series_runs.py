@@ -282,3 +282,35 @@ def test_a_latent_trace_of_several_runs_needs_a_file_per_run(runs_dir, tmp_path,
     assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: inputs\.cmd\.latent: trace: the netlist's profile reads "
                                    r"the times of a file of several runs", err), err
     assert not (tmp_path / "out").exists()
+
+
+def test_the_screening_netlist_reproduces_every_run(runs_dir, tmp_path):
+    """Every candidate at every place, parameters at zero, is the declared model in each run, run b's
+    supply at 150 bar included: a node a line loss adds beside the supply starts at ``supply.p`` as the run
+    sets it (frozen at the netlist's 207 bar, run b failed at t = 0)."""
+    from blocks.calibrate.candidates import registered
+    from blocks.calibrate.experiment import TraceSpec
+    from blocks.calibrate.model import Model
+    from blocks.calibrate.patch import NetlistDoc
+    from blocks.calibrate.run import Stage, all_places, context, free_of
+    from blocks.circuit import Circuit
+
+    (tmp_path / "runs.csv").write_text((runs_dir / "runs.csv").read_text())
+    exp = load_experiment(_experiment(tmp_path))
+    data = load_data(exp)
+    globals_ = exp.free + latent_globals(exp, data)
+    model = Model(Circuit.from_file(exp.netlist), exp, data, globals_)
+    doc = NetlistDoc.read(exp.netlist)
+    places = all_places(context(Stage(Path(exp.netlist), model, None, None), exp, data, doc), TraceSpec(),
+                        set(model.circuit.flat.parameters.entries))
+    assert any(p.key.endswith("@valve.P") for p in places)
+    for place in places:
+        if place.kind == "netlist":
+            doc.add_parameter(place.param, place.zero)
+            registered()[place.candidate].patch(doc, place)
+    screening = Model(Circuit.from_file(doc.write(tmp_path / "screening.yaml", header="test")), exp, data,
+                      globals_ + [free_of(p, p.zero) for p in places])
+    x = model.initial()
+    r = screening.residuals(model.extend(x, screening))
+    assert not screening.failures, screening.failures[0]
+    assert np.max(np.abs(r - model.residuals(x))) < 0.05

@@ -243,6 +243,17 @@ def test_complex_results_are_expression_errors(text):
         eval_text(text, x=-4.0)
 
 
+def test_a_dotted_name_is_one_name():
+    """``supply.p`` reads a component's parameter: one name, looked up whole."""
+    expr = parse_expression("2*supply.p + sub.x")
+    assert expr.names == frozenset({"supply.p", "sub.x"})
+    assert expr.evaluate({"supply.p": 3.0, "sub.x": 1.0}) == 7.0
+    with pytest.raises(ExpressionError, match="unknown parameter 'supply.p'"):
+        expr.evaluate({"sub.x": 1.0})
+    with pytest.raises(ExpressionError, match="attribute access is not allowed"):
+        parse_expression("p_s.__class__")
+
+
 # ---- expressions: refusals -----------------------------------------------------------------------------
 @pytest.mark.parametrize("text", [
     "x.real", "p_s.__class__", "().__class__.__bases__[0].__subclasses__()",  # attribute access
