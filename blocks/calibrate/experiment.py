@@ -41,9 +41,9 @@ values read the data file's columns (``times: {csv: data.csv, column: t}``, ``va
 column: cmd}``). Listed under ``inputs:`` with ``latent: trace`` (``cmd: {signal: cmd, latent: trace,
 noise: 0.005}``), the recording is a noisy reading of a latent linear spline whose knots are fitted
 (:mod:`blocks.calibrate.latent_trace`; the profile's breakpoints are replaced by the knots; with several
-runs, one data file each, the netlist reads one of them and each run gets the knots of its own recording). Not listed,
-such a column is imposed exactly, its measurement noise not accounted for; the report names it
-(:func:`read_by_netlist`), and the verdict does when a discrepancy remains.
+runs, one data file each, the netlist reads one of them and each run gets the knots of its own
+recording). Not listed, such a column is imposed exactly, its measurement noise not accounted for; the
+report names it (:func:`read_by_netlist`), and the verdict does when a discrepancy remains.
 """
 
 from __future__ import annotations

@@ -43,8 +43,8 @@ before (an optimiser needs that). Points unsettled at their fixed length are cou
 silently used as if steady).
 Time series: one run per group of the data (one without a grouping column), with the group's parameter
 values and, with several runs, each run's own latent levels or latent trace knots (the profile that reads
-the recording gets each run's knots as its breakpoints for that run); logged signals are interpolated linearly
-onto the data's times, which must lie inside the simulated span.
+the recording gets each run's knots as its breakpoints for that run); logged signals are interpolated
+linearly onto the data's times, which must lie inside the simulated span.
 """
 
 from __future__ import annotations
