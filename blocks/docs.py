@@ -293,9 +293,10 @@ def file_format() -> str:
         "`\"0.085 + m_load*r_pinion**2/n_gear**2\"`, `\"23000 kg + m_payload\"`. Operators `+ - * / ** %`, "
         "parentheses, the functions " + ", ".join(f"`{f}`" for f in expressions.FUNCTIONS) +
         " and the constants " + ", ".join(f"`{c}`" for c in expressions.CONSTANTS) + ". A name may also "
-        "be a component's parameter or a net's value of the same file, by its dotted name: "
-        "`initial: supply.p` (the net starts at the supply's pressure, and follows an override of it); "
-        "not a name inside a subsystem (`bridge.ctrl.k2`). Nothing else (no other attributes, no calls of "
+        "be a component's scalar parameter or a net's written `initial` of the same file, by its dotted "
+        "name: `initial: supply.p` (the net starts at the supply's pressure, and follows an override of it), "
+        "`p_set: A.initial + 20 bar`; not a name inside a subsystem (`bridge.ctrl.k2`). Nothing else (no other "
+        "attributes, no calls of "
         "anything else): a netlist cannot run code.",
         "",
         "Units combine with `*` (or a space), `/` and `^` (`\"m^3/(s*Pa)\"`, `\"N*m*s/rad\"`). Angle is a "

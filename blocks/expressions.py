@@ -2,7 +2,7 @@
 
 Only numbers, parameter names, + - * / ** %, unary signs, parentheses, comparisons inside ``min``/``max``
 style calls and a fixed table of math functions are accepted. A name may be dotted, ``supply.p``: a
-parameter of a component (or a net's ``initial``, ``volume``) of the same netlist, read as one name. The
+parameter of a component (or a net's written ``initial``) of the same netlist, read as one name. The
 text is parsed with :mod:`ast` and walked by hand; ``eval`` is never called, subscripts, lambdas and
 everything else are refused, so a netlist can run no code. All numbers are floats, so ``9**9**9``
 overflows at once instead of hanging.

@@ -267,10 +267,11 @@ def split_quantity(text: str) -> tuple[float, str]:
 
 _INLINE_QUANTITY = re.compile(
     # a number, a space, then a unit written without spaces ("30 cm^3/rev", "1e-12 m^3/(s*Pa)" is not
-    # supported inside expressions): "1000 kg * g" keeps g a parameter name, not a gram
+    # supported inside expressions): "1000 kg * g" keeps g a parameter name, not a gram, and "1 bar/A.initial"
+    # reads the dotted name A.initial, not a unit bar/A
     r"(?<![\w.])(?P<value>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s+"
     r"(?P<unit>[A-Za-z%][A-Za-z0-9%]*(?:(?:\^|\*\*)-?\d+(?:\.\d+)?)?"
-    r"(?:[*/·][A-Za-z%][A-Za-z0-9%]*(?:(?:\^|\*\*)-?\d+(?:\.\d+)?)?)*)(?![\w(])"
+    r"(?:[*/·][A-Za-z%][A-Za-z0-9%]*(?:(?:\^|\*\*)-?\d+(?:\.\d+)?)?)*)(?![\w(.])"
 )
 
 

@@ -59,6 +59,17 @@ class Dataset:
 
 
 def load_data(exp: Experiment) -> Dataset:
+    data = _load_data(exp)
+    if data.kind == "time" and len(data.groups) > 1 and exp.exact_columns:
+        column, param = exp.exact_columns[0]
+        raise exp.error(("data",), f"data: the netlist reads the column {column} ({param}) from one data file and "
+                                   f"imposes it exactly, which would drive all {len(data.groups)} runs with one "
+                                   f"run's recording; list it under inputs: as a latent trace (each run gets its "
+                                   f"own), or give the runs their own experiment files")
+    return data
+
+
+def _load_data(exp: Experiment) -> Dataset:
     files = exp.data_files or [exp.data]
     parts = [_load_file(exp, f, first=k == 0, several=len(files) > 1) for k, f in enumerate(files)]
     found = {label for p in parts for label in p.labels}

@@ -250,7 +250,7 @@ def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
     parameters; with several runs, one set per run, ``<level>[<run>]``, starting at the run's netlist
     value), or the knots of a recorded trace (``latent: trace``, :mod:`blocks.calibrate.latent_trace`; with
     several runs, each run's own knots, chosen from its own recording; an error naming the input if a
-    recording needs too many knots)."""
+    recording needs too many knots, or if the netlist reads the recording from a file of several runs)."""
     out = []
     if data.kind != "time":
         return out
@@ -275,16 +275,17 @@ def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
                                 f"start; give each run its own data file (data: [a.csv, b.csv]) and let the "
                                 f"netlist read one of them (each run gets its own knots)")
             for run in runs:
-                out += trace_globals(exp, data, ch, circuit, run)
+                out += trace_globals(exp, data, ch, run, len(times))
     return out
 
 
-def trace_globals(exp: Experiment, data: Dataset, ch, circuit, run: str | None = None) -> list[Free]:
+def trace_globals(exp: Experiment, data: Dataset, ch, run: str | None, length: int) -> list[Free]:
     """The knots of a latent trace (:mod:`blocks.calibrate.latent_trace`) as free globals: each knot's value
     (``<profile>.values[knot j]``) and, but for the first and last, its time (``<profile>.times[knot j]``),
     bounded halfway to its neighbours' start times so that the knots keep their order. With several runs,
     ``run``'s knots, chosen from its samples alone and named ``<profile>.values[knot j][<run>]``. An error
-    naming the input (and the run) if the recording needs too many knots."""
+    naming the input (and the run) if the recording needs more knots than the profile's ``length``
+    breakpoints, or more than :data:`blocks.calibrate.latent_trace.MAX_KNOTS`."""
     idx = np.arange(data.n) if run is None else data.groups[run]
     t, measured, sigma = data.t[idx], data.measured[ch.name][idx], data.sigma[ch.name]
     of_run = "" if run is None else f" (run '{run}')"
@@ -294,7 +295,6 @@ def trace_globals(exp: Experiment, data: Dataset, ch, circuit, run: str | None =
         raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace{of_run}: {exc}; impose "
                         f"it exactly (no latent:) or model the command by its levels") from None
     profile = ch.trace.rsplit(".", 1)[0]
-    length = len(circuit.flat.parameters.evaluate({})[f"{profile}.times"])
     if len(knots) > length:
         raise exp.error(("inputs", ch.name, "latent"), f"inputs.{ch.name}.latent: trace{of_run}: {len(knots)} "
                         f"knots, more than the {length} breakpoints of the profile '{profile}'")

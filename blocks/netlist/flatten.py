@@ -169,6 +169,10 @@ class _Builder:
         self.merged_into: dict[str, str] = {}
         self.default_volume: dict[str, tuple | None] = {}
         self.auto_bulk: set[str] = set()
+        self.subsystem_names: set[str] = set()
+        # each file's scope, prefix and nets, for the dotted names of its nets' initial values (A.initial),
+        # known once the nets are merged: a net joined to another through a subsystem port has one start
+        self.net_scopes: list[tuple[dict[str, str], str, list[str]]] = []
 
     # ---- parameters ---------------------------------------------------------------------------------
     def add_fluid(self, netlist: spec.Netlist, located: Located, prefix: str = "",
@@ -220,8 +224,9 @@ class _Builder:
             self._add_subsystem(prefix, name, sub, located, scope, stack, fluid, default_volume)
         for name, net in netlist.nets.items():
             qualified = prefix + name
-            if qualified in self.components or qualified in self.net_names:
-                raise located.error(("nets", name), f"duplicate name '{name}' (a component or net already has it)")
+            if qualified in self.components or qualified in self.net_names or qualified in self.subsystem_names:
+                raise located.error(("nets", name), f"duplicate name '{name}' (a component, subsystem or net "
+                                                    f"already has it)")
             if name == "fluid":
                 raise located.error(("nets", name), "'fluid' is a reserved name")
             self.net_names.add(qualified)
@@ -236,13 +241,16 @@ class _Builder:
                 if raw is not None:
                     self.table.add(make_entry(f"{qualified}.{key}", raw, unit, scope, located, ("nets", name, key),
                                               NET_BOUNDS.get(key)))
-        # the component parameters and net values of this file, readable by their dotted names (supply.p,
-        # A.initial) in its expressions; the entries above hold this same scope, so they see them too
-        own = tuple(prefix + name + "." for name in (*netlist.components, *netlist.nets))
+        # this file's component parameters, readable by their dotted names (supply.p) in its own expressions:
+        # the entries of this file hold this same scope dict (a subsystem's parameter overrides are read in
+        # the parent's scope, with the parent's names); its nets' initial values (A.initial) join it once the
+        # nets are merged (:meth:`_merge_net_entries`)
+        components = tuple(prefix + name + "." for name in netlist.components)
         for qualified in self.table.entries:
             local = qualified[len(prefix):]
-            if qualified.startswith(own) and local.count(".") == 1:
-                scope.setdefault(local, qualified)
+            if qualified.startswith(components) and local.count(".") == 1:
+                scope[local] = qualified
+        self.net_scopes.append((scope, prefix, list(netlist.nets)))
         for exposed, ref in netlist.ports.items():
             self.aliases[prefix + exposed] = prefix + ref
 
@@ -346,7 +354,7 @@ class _Builder:
         self.add_netlist(inner, inner_located, qualified + ".", overrides, scope, stack + (resolved,), inner_fluid,
                          default_volume)
         del self.components[qualified]
-        self.subsystem_names = getattr(self, "subsystem_names", set()) | {qualified}
+        self.subsystem_names.add(qualified)
 
     # ---- nets ---------------------------------------------------------------------------------------
     def resolve_nets(self) -> dict[str, FlatNet]:
@@ -452,6 +460,11 @@ class _Builder:
         for flat in merged.values():
             flat.has_volume = f"{flat.name}.volume" in self.table.entries
             flat.default_volume = self.default_volume.get(flat.name)
+        for scope, prefix, nets in self.net_scopes:  # a merged net starts at its root's one initial value
+            for name in nets:
+                start = f"{find(prefix + name)}.initial"
+                if start in self.table.entries:
+                    scope[f"{name}.initial"] = start
         self.table._order = None
 
     def _check_net_entries(self, merged: dict[str, FlatNet]) -> None:
@@ -487,7 +500,7 @@ class _Builder:
         comp_name, port_name = qualified.rsplit(".", 1)
         comp = self.components.get(comp_name)
         if comp is None:
-            if comp_name in getattr(self, "subsystem_names", set()):
+            if comp_name in self.subsystem_names:
                 raise located.error(path, f"'{ref}': subsystem '{comp_name.rsplit('.', 1)[-1]}' exposes no port "
                                     f"'{port_name}'")
             hint = nearest(comp_name, self.components)

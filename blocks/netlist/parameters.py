@@ -91,6 +91,10 @@ class ParameterTable:
                         hint = nearest(local, near)
                         raise entry.error(f"unknown parameter '{local}' in {entry.name}"
                                           + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+                    read = self.entries[target]
+                    if read.elements is not None or isinstance(read.constant, tuple):
+                        raise entry.error(f"{entry.name}: '{local}' is a list of values; an expression reads "
+                                          f"one value")
                     graph.add_edge(target, entry.name)
             try:
                 cycle = nx.find_cycle(graph)

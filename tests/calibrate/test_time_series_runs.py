@@ -314,3 +314,14 @@ def test_the_screening_netlist_reproduces_every_run(runs_dir, tmp_path):
     r = screening.residuals(model.extend(x, screening))
     assert not screening.failures, screening.failures[0]
     assert np.max(np.abs(r - model.residuals(x))) < 0.05
+
+
+def test_a_column_imposed_exactly_cannot_drive_several_runs(runs_dir, tmp_path, capsys):
+    """The netlist reads run a's recorded command and imposes it as it is: with two runs that would drive
+    run b with run a's command, silently."""
+    path = _recorded_runs(runs_dir, tmp_path, inputs={})
+    code = cli.main(["calibrate", str(path), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: data: the netlist reads the column cmd \(cmd\.values\) "
+                                   r"from one data file and imposes it exactly, which would drive all 2 runs", err), err
+    assert not (tmp_path / "out").exists()

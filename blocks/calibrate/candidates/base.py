@@ -143,13 +143,14 @@ def series_ports(ctx: Context) -> list[tuple[str, str, bool]]:
 
 def start_pressure(ctx: Context, net: str) -> str | float | None:
     """The pressure a net starts at, as a netlist reference for a new node's ``initial``: the net's own
-    ``initial`` as written (``A.initial``), the engine's default start where the net writes none (a number),
+    ``initial`` as written (``A.initial``; or a subsystem's net joined to it), the engine's default start
+    where none is written (a number),
     or the setting of the pressure source holding it (tank, pressure_source: ``supply.p``), else None. A
     reference, not its value: a group, a run or an optimiser that sets ``supply.p`` moves the new node's
     start with it (frozen at 207 bar, a node beside a 150 bar supply starts 57 bar off, and the solver
     fails at t = 0 through a loss of zero resistance)."""
-    spec = ctx.doc.section("nets").get(net)
-    if isinstance(spec, dict) and spec.get("initial") is not None:
+    written = ctx.flat.parameters.entries.get(f"{net}.initial")
+    if written is not None and written.raw is not None:  # in the file, or in a subsystem's net joined to it
         return f"{net}.initial"
     if f"{net}.initial" in ctx.values:  # the engine's default start, which no parameter moves
         return float(ctx.values[f"{net}.initial"])
