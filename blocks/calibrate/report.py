@@ -94,7 +94,8 @@ def screening_rows(rnd) -> list[dict]:
 def refit_rows(rnd) -> list[dict]:
     return [{"key": r.score.place.key, "value": r.phi, "se": r.se, "z": r.z, "unit": r.score.place.unit,
              "dchi2": r.dchi2, "dbic": r.dbic, "plausible": r.plausible,
-             "heldout_error": r.heldout.error if r.heldout else None, "accepted": r.accepted, "reasons": r.reasons,
+             "heldout_error": r.heldout.error if r.heldout else None,
+             "heldout_score": r.heldout.score if r.heldout else None, "accepted": r.accepted, "reasons": r.reasons,
              "converged": r.fit.converged, "evaluations": r.fit.nfev,
              "meaning": r.score.place.meaning}
             for r in rnd.decision.refits]
@@ -130,6 +131,8 @@ def build(cal) -> dict:
         "overall": {tag: ({"chi2": st.lof.chi2, "n": st.lof.n, "p": st.lof.p, "nu": st.lof.nu,
                            "chi2_nu": st.lof.reduced, "p_value": st.lof.p_value, "bic": st.fit.bic(),
                            "heldout_error": st.heldout.error if st.heldout else None,
+                           "heldout_score": st.heldout.score if st.heldout else None,
+                           "heldout_knots_propagated": st.heldout.knots if st.heldout else 0,
                            "heldout_scheme": st.heldout.scheme if st.heldout else None,
                            "heldout_unconverged_folds": st.heldout.unconverged if st.heldout else [],
                            "unsettled_points": st.fit.unsettled, "failed_runs": st.fit.failures[:5],
@@ -148,7 +151,8 @@ def build(cal) -> dict:
                     "notes": r.notes, "screening": screening_rows(r), "refits": refit_rows(r),
                     "ambiguous": r.decision.ambiguous, "separation": r.decision.separation,
                     "choice_moves": r.decision.depends,
-                    "heldout_error": r.stage.heldout.error if r.stage.heldout else None}
+                    "heldout_error": r.stage.heldout.error if r.stage.heldout else None,
+                    "heldout_score": r.stage.heldout.score if r.stage.heldout else None}
                    for r in cal.rounds],
         "exchanges": [{"out": ex.out_key, "round": ex.round, "in": ex.in_key, "dbic": ex.dbic, "value": ex.phi,
                        "se": ex.se, "z": ex.z, "plausible": ex.plausible, "made": ex.made, "reasons": ex.reasons,
@@ -190,7 +194,11 @@ def markdown(cal, info: dict) -> str:
         if o:
             L.append(f"- {tag}: chi^2 = {_g(o['chi2'])} on nu = {o['nu']} (chi^2/nu = {_g(o['chi2_nu'], 3)}, "
                      f"p = {_g(o['p_value'], 2)}), BIC = {_g(o['bic'], 6)}, held-out error "
-                     f"{_g(o['heldout_error'], 3)} ({o['heldout_scheme']}"
+                     f"{_g(o['heldout_error'], 3)}"
+                     + (f" (score {_g(o['heldout_score'], 4)}, with the uncertainty of "
+                        f"{o['heldout_knots_propagated']} knots of the recorded command)"
+                        if o["heldout_knots_propagated"] else "")
+                     + f" ({o['heldout_scheme']}"
                      + (f"; folds whose refit did not converge: {', '.join(o['heldout_unconverged_folds'])}"
                         if o["heldout_unconverged_folds"] else "") + "); unsettled points: "
                      f"{o['unsettled_points']}" + _lengthened(o['lengthened_runs'])
@@ -284,13 +292,15 @@ def markdown(cal, info: dict) -> str:
                      f"{_g(s['p_value'], 2) if s['status'] == 'screened' else '-'} | {_g(s['estimate'], 3)} | "
                      f"{s['unit']} | {100 * s['absorbed']:.1f} % | {s['note']} |")
         L += ["", "Refitted (ranked by BIC):", "",
-              "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | accepted | why not |",
-              "|---|---|---|---|---|---|---|---|---|"]
+              "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | held-out score | accepted "
+              "| why not |",
+              "|---|---|---|---|---|---|---|---|---|---|"]
         for f in r["refits"]:
             dbic = _g(f["dbic"], 4) + ("" if f["converged"] else " (refit stopped at its evaluation limit: an upper "
                                                                  "bound)")
             L.append(f"| {f['key']} | {_g(f['value'])} | {_g(f['se'], 2)} | {_g(f['z'], 3)} | {dbic} | "
-                     f"{f['plausible']} | {_g(f['heldout_error'], 3)} | {f['accepted']} | {'; '.join(f['reasons'])} |")
+                     f"{f['plausible']} | {_g(f['heldout_error'], 3)} | {_g(f['heldout_score'], 4)} | {f['accepted']} | "
+                     f"{'; '.join(f['reasons'])} |")
         if r["ambiguous"]:
             L += ["", "Ambiguous: " + ", ".join(r["ambiguous"])] + [f"- {s}" for s in r["separation"]]
             L += [f"- what the choice changes: {s}" for s in r["choice_moves"]]

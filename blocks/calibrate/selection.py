@@ -135,8 +135,9 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
             if base_ho is None:
                 base_ho = heldout(base_model, base_fit, heldout_spec)
             rf.heldout = heldout(rf.model, rf.fit, heldout_spec)
-            if not rf.heldout.error < base_ho.error:
-                rf.reasons.append(f"held-out error {rf.heldout.error:.3g} is not below {base_ho.error:.3g}")
+            if not rf.heldout.score < base_ho.score:
+                rf.reasons.append(f"held-out {rf.heldout.measure} {rf.heldout.score:.4g} is not below "
+                                  f"{base_ho.score:.4g}")
                 continue
         rf.accepted = True
         accepted = rf

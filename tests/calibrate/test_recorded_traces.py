@@ -106,7 +106,8 @@ def test_a_held_out_blocks_knots_start_from_the_recording_alone(tmp_path, monkey
     moved = model.initial() + 1e-4  # as if the full fit had moved every parameter
     starts = []
     monkeypatch.setattr(heldout_module, "fit", lambda m, x0, active, rows, max_nfev: starts.append(x0.copy())
-                        or SimpleNamespace(x=x0, r=np.zeros(m.n_rows), converged=True))
+                        or SimpleNamespace(x=x0, r=np.zeros(m.n_rows), converged=True,
+                                           active=np.zeros(x0.size, dtype=bool)))
     full = SimpleNamespace(x=moved, active=np.ones(moved.size, dtype=bool), rows=np.ones(model.n_rows, dtype=bool))
     heldout_module.heldout(model, full, exp.spec.heldout)
     _, folds = heldout_module.make_folds(model, exp.spec.heldout)

@@ -229,7 +229,8 @@ def test_a_held_out_run_restarts_its_own_knots_only(runs_dir, tmp_path, monkeypa
         moved = model.initial() + 1e-4
         starts = []
         monkeypatch.setattr(heldout_module, "fit", lambda m, x0, active, rows, max_nfev: starts.append(x0.copy())
-                            or SimpleNamespace(x=x0, r=np.zeros(m.n_rows), converged=True))
+                            or SimpleNamespace(x=x0, r=np.zeros(m.n_rows), converged=True,
+                                               active=np.zeros(x0.size, dtype=bool)))
         full = SimpleNamespace(x=moved, active=np.ones(moved.size, dtype=bool),
                                rows=np.ones(model.n_rows, dtype=bool))
         heldout_module.heldout(model, full, exp.spec.heldout)
