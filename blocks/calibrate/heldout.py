@@ -41,8 +41,9 @@ score then uses the linearised predictive distribution of the block's outputs, r
     S = I + J_k C_k J_k^T
 
 (J_k = d r / d knots over the block's output rows; C_k the knots' covariance from the fold's refit, whose
-rows are the recording and the other blocks' outputs; a knot time that the recording cannot place, a step
-between two samples, has at most the variance of a uniform spread over its bounds, (hi - lo)^2 / 12), and is
+rows are the recording and the other blocks' outputs, each knot time given a prior of the variance of a
+uniform spread over its bounds, (hi - lo)^2 / 12, which bounds that of a time the recording cannot place, a
+step between two samples), and is
 
     score = sum over folds (r^T S^-1 r + ln det S) / n
 

@@ -200,7 +200,10 @@ def test_a_line_cut_short_by_a_kill_is_dropped(tmp_path):
 
 def _start(args, tmp_path):
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    return subprocess.Popen([sys.executable, "-c", "import sys, cli; sys.exit(cli.main(sys.argv[1:]))", *args],
+    # Ctrl-C as a terminal delivers it, even where the tests run in the background (which ignores SIGINT)
+    code = "import signal, sys, cli; signal.signal(signal.SIGINT, signal.default_int_handler); " \
+           "sys.exit(cli.main(sys.argv[1:]))"
+    return subprocess.Popen([sys.executable, "-c", code, *args],
                             cwd=ROOT, env=env, stdout=subprocess.PIPE, stderr=subprocess.PIPE,
                             start_new_session=True, text=True)
 
