@@ -27,5 +27,7 @@ def test_a_fold_cut_short_is_continued_to_convergence(tmp_path):
     cut_short = heldout(final.model, final.fit, spec_ho, attempts=1)
     assert cut_short.unconverged == ["2"] and dict((n, e) for n, _, e in cut_short.folds)["2"] > 10  # premise
     assert final.heldout.unconverged == [] and max(e for _, _, e in final.heldout.folds) < 2
+    # steady points are predicted from their measured inputs: no knots, the score is the error itself
+    assert final.heldout.knots == 0 and abs(final.heldout.score - final.heldout.error) <= 1e-12 * final.heldout.error
     generous = heldout(final.model, final.fit, spec_ho, max_nfev=500, attempts=1)
     assert generous.unconverged == [] and abs(final.heldout.error - generous.error) < 1e-3 * generous.error
