@@ -49,7 +49,9 @@ step between two samples), and is
 
 (the Gaussian log score, -2 ln p(r), up to a constant: 1 for a model that predicts to the noise, and a
 proper scoring rule, so the right model wins in expectation). Parameter uncertainty is left out on
-purpose: what estimating more parameters costs is what the held-out test is there to charge.
+purpose: what estimating more parameters costs is what the held-out test is there to charge. Knots that start
+before the block are left out too, though their uncertainty reaches its first samples through the state: the
+outputs before the block helped place them, and each costs two more simulations per fold.
 """
 
 from __future__ import annotations
