@@ -10,7 +10,10 @@ library) + Gaussian noise on every measured channel, the imposed inputs included
 
 Each planted effect is sized by its non-centrality lambda: the chi^2 of the declared model, fitted to the
 noise-free truth, against it (what the declared parameters cannot absorb). lambda is ~ phi^2, so phi is
-scaled to the target and checked twice. Per case and seed the data are drawn, ``calibrate`` runs (with
+scaled to the target and checked twice. With ``--recorded`` the declared model's command is the latent
+trace of the recording, whose knots absorb part of some effects; lambda is then the one with the recording.
+A case's records must all be of one size: a rerun that sizes a case otherwise than its records stops with
+an error. Per case and seed the data are drawn, ``calibrate`` runs (with
 held-out errors), and these are recorded:
 
 - right: the planted effect is accepted in round 1 as the best by BIC, or it is in the reported ambiguity
@@ -264,44 +267,85 @@ class Setup:
     def _signal(self, channel: str) -> str:
         return next(c.signal for c in self.exp.channels if c.name == channel)
 
-    def lam(self, clean: dict) -> float:
-        """chi^2 of the declared model fitted to the noise-free truth."""
-        from blocks.calibrate.fit import fit
+    def lam(self, clean: dict, recorded: bool = False) -> float:
+        """chi^2 of the declared model fitted to the noise-free truth. ``recorded`` (the time series): the
+        experiment of ``--recorded``, its command a latent trace whose knots are chosen from the noise-free
+        recording and fitted with the parameters, so that lambda is what the declared model with its knots
+        cannot absorb."""
         from blocks.calibrate.run import latent_globals
 
+        if recorded:
+            return self._lam_recorded(clean)
         data = self.dataset(clean)
         globals_ = list(self.exp.free) + latent_globals(self.exp, data)
         model = self.Model(self.circuit, self.exp, data, globals_)
-        x0 = model.initial()
+        return self._fit_from_truth(model)
+
+    def _lam_recorded(self, clean: dict) -> float:
+        import tempfile
+
+        from blocks.calibrate.data import load_data
+        from blocks.calibrate.experiment import load_experiment
+        from blocks.calibrate.run import latent_globals
+        from blocks.circuit import Circuit
+
+        with tempfile.TemporaryDirectory() as tmp:
+            work = Path(tmp)
+            write_data(self, clean, work / "data.csv")
+            write_experiment(self, work / "data.csv", work / "experiment.yaml", recorded=True)
+            exp = load_experiment(work / "experiment.yaml")
+            data = load_data(exp)
+            globals_ = list(exp.free) + latent_globals(exp, data)
+            model = self.Model(Circuit.from_file(exp.netlist), exp, data, globals_)
+            return self._fit_from_truth(model, also_from_initial=True)
+
+    def _fit_from_truth(self, model, also_from_initial: bool = False) -> float:
+        """chi^2 of ``model`` fitted from the truth's declared values; ``also_from_initial``: the lower of
+        that and the fit from the experiment's own start (the tool's), for a fit with several minima (the
+        knot times of a latent trace: on the drive line the two starts differ by up to 4 % in chi^2)."""
+        from blocks.calibrate.fit import fit
+
+        starts = [model.initial()]
+        x0 = starts[0].copy()
         for k, g in enumerate(model.layout.globals):  # start at the truth's values
             if g.kind == "declared":
                 x0[k] = self.values[g.name]
-        res = fit(model, x0, np.ones(model.layout.size, dtype=bool), max_nfev=60)
-        return res.chi2
+        starts = [x0] + (starts if also_from_initial else [])
+        return min(fit(model, x, np.ones(model.layout.size, dtype=bool), max_nfev=60).chi2 for x in starts)
 
-    def size(self, case: Case) -> tuple[dict[str, float], dict[str, float]]:
-        """Each planted effect scaled to its target lambda (alone); returns values and lambdas reached."""
+    def size(self, case: Case) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
+        """Each planted effect scaled to its target lambda (alone); returns the values, the lambdas reached
+        and the lambdas with the command given by its levels. Under ``--recorded`` the lambda is the one
+        with the recording (:meth:`lam`, ``recorded``), refined from the size by the levels: the knots of
+        the latent trace absorb part of some effects (the off-library torque pulse more than half)."""
+        values, lams, by_levels = {}, {}, {}
+        for plant in case.plants:
+            phi, lam = self._scale(plant, TRIAL[plant.key.split("@")[0]], recorded=False)
+            by_levels[plant.key] = lam
+            if self.kind == "time" and RECORDED:
+                phi, lam = self._scale(plant, phi, recorded=True)
+            values[plant.key], lams[plant.key] = phi, lam
+        return values, lams, by_levels
+
+    def _scale(self, plant: Plant, phi: float, recorded: bool) -> tuple[float, float]:
+        """``phi`` scaled until the plant's lambda is at its target: for "lambda >= 100" at or just above
+        it, for "lambda <= 3" at or just below (at most 5 evaluations)."""
         from blocks.circuit import Circuit
 
-        values, lams = {}, {}
-        for plant in case.plants:
-            cand = plant.key.split("@")[0]
-            phi = TRIAL[cand]
-            lam = None
-            big = plant.lam >= 100  # "lambda >= 100": at or just above the target; "lambda <= 3": at or below
-            for _ in range(5):
-                plants = {plant.key: phi}
-                circuit = Circuit.from_file(self.truth_netlist(plants, f"size_{plant.key}"))
-                lam = self.lam(self.truth_data(circuit, plants))
-                if lam <= 0:
-                    phi *= 10
-                    continue
-                ratio = plant.lam / lam
-                if (big and 0.87 <= ratio <= 1.0) or (not big and 1.0 <= ratio <= 1.15):
-                    break
-                phi *= float(np.sqrt(ratio)) * ((1.03 if big else 0.97) if abs(ratio - 1) < 0.2 else 1.0)
-            values[plant.key], lams[plant.key] = phi, lam
-        return values, lams
+        lam = None
+        big = plant.lam >= 100
+        for _ in range(5):
+            plants = {plant.key: phi}
+            circuit = Circuit.from_file(self.truth_netlist(plants, f"size_{plant.key}"))
+            lam = self.lam(self.truth_data(circuit, plants), recorded)
+            if lam <= 0:
+                phi *= 10
+                continue
+            ratio = plant.lam / lam
+            if (big and 0.87 <= ratio <= 1.0) or (not big and 1.0 <= ratio <= 1.15):
+                break
+            phi *= float(np.sqrt(ratio)) * ((1.03 if big else 0.97) if abs(ratio - 1) < 0.2 else 1.0)
+        return phi, lam
 
 
 # ---- one seed ---------------------------------------------------------------------------------------------
@@ -332,7 +376,7 @@ def write_data(s: Setup, measured: dict, path: Path) -> None:
     atomic_write_text(path, "\n".join(lines) + "\n")
 
 
-def write_experiment(s: Setup, data_path: Path, path: Path) -> None:
+def write_experiment(s: Setup, data_path: Path, path: Path, recorded: bool | None = None) -> None:
     from blocks.result import atomic_write_text
 
     spec = dict(s.exp.located.data)
@@ -345,7 +389,7 @@ def write_experiment(s: Setup, data_path: Path, path: Path) -> None:
         spec["group_table"] = table
     if s.kind == "mcv":  # the real data's experiment refits 8 candidates per round; the Monte Carlo the default 3
         spec["trace"] = {"rounds": 3, "top": 3}
-    if s.kind == "time" and RECORDED:  # the netlist's command profile reads the seed's recording
+    if s.kind == "time" and (RECORDED if recorded is None else recorded):  # the profile reads the recording
         netlist = yaml.safe_load(Path(s.exp.netlist).read_text())
         netlist["components"]["cmd"]["params"] = {"times": {"csv": str(data_path), "column": "t"},
                                                   "values": {"csv": str(data_path), "column": "cmd"}}
@@ -360,7 +404,7 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     from blocks.circuit import Circuit
 
     s = setup(case.kind)
-    values, lams = sizes
+    values, lams, by_levels = sizes
     truth_file = s.truth_netlist(values, case.name)
     clean = s.truth_data(Circuit.from_file(truth_file), values)
     rng = np.random.default_rng(seed)
@@ -422,6 +466,7 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     true_command_err = float(np.mean(np.concatenate([((noisy[o] - clean[o]) / s.sigma[o]) ** 2 for o in outputs])))
     return {"case": case.name, "seed": seed, "kind": case.kind, "expect": case.expect,
             "planted": {p.key: values.get(p.key) for p in case.plants}, "lambda": lams,
+            "lambda_levels": by_levels,
             "accepted": accepted, "rounds": rounds, "exchanges": exchanges, "removals": removals, "found": found,
             "recovered": recovered,
             "first_right": first_right, "ranked_first": bool(ranked_first),
@@ -580,19 +625,10 @@ def table(results: list[dict]) -> str:
         "command the spline that the recording alone gives (knots at samples, as the tool starts them; "
         "a held-out block's knots start there too). The median held-out ratio against the truth model "
         "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". A seed takes 1 to 5 "
-        "minutes here. The knots take little of the planted friction: its lambda "
-        "is 99.6 with the recording against 106 with the command's levels (`python bench/recorded_lambda.py "
-        "coulomb_friction@shaft 0.1657`), nor of the viscous friction (103.4 against 100.4) or the extra volume (93.2 "
-        "against 100.3). A transport delay on the command shorter than a sample interval "
-        "is another matter: the knots' times take it whole (`time_delay`'s 0.23 ms: lambda 108 with the "
-        "levels, 1.1 with the recording), so that case is not run here. The off-library torque pulse "
-        "loses more than half: lambda 100.5 with the levels, 43.3 with the recording (`python "
-        "bench/recorded_lambda.py offlib_torque_pulse 0.6404`): the knots' times and values, fitted to the "
-        "outputs too, take more than half of its chi^2, and what is left is found as 'unexplained' less often "
-        "than a lambda of 100 would be. Sized by its lambda with the recording instead, the pulse would be 1.52 "
-        "times larger (0.973: lambda 232 with the levels, 100.1 with the recording; `python "
-        "bench/recorded_lambda.py offlib_torque_pulse 0.973`); the rows here are all sized by the command's "
-        "levels. "
+        "minutes here. " + _recorded_sizes(rows) + " A transport delay on the command shorter than a sample "
+        "interval is another matter: the knots' times take it whole (`time_delay`'s 0.23 ms: lambda 108 with the "
+        "levels, 1.1 with the recording: `python bench/recorded_lambda.py transport_delay@u 0.000227`), so that "
+        "case is not run here. "
         + _recorded_misses(rows)),
         lambda rows: "`python bench/calibrate_mc.py --recorded --cases " + " ".join(
             c.name for c in CASES if any(r["case"] == c.name for r in rows))
@@ -686,6 +722,27 @@ def case_rows(results: list[dict]) -> list[str]:
     return lines
 
 
+def _recorded_sizes(rows: list[dict]) -> str:
+    """How the recorded-command rows are sized: by their lambda with the recording, and what the same sizes
+    give with the command's levels (from the records)."""
+    sized = {}
+    for r in rows:
+        if "error" not in r and r.get("lambda_levels"):
+            sized.setdefault(r["case"], r)
+    if not sized:
+        return "The rows are sized by the command's levels."
+    return ("Each planted effect is sized by its lambda with the recording (`Setup.lam`, recorded: the declared "
+            "model, its knots chosen from the noise-free recording and fitted with its parameters to the truth; "
+            "the lower chi^2 from two starts, the truth's values and the tool's own), scaled on from its size by "
+            "the command's levels, since the knots absorb part of some effects. The same sizes with the command's "
+            "levels: " + ", ".join(f"`{case}` lambda " + ", ".join(f"{v:.0f}" for v in r["lambda_levels"].values())
+                                   + " (with the recording " + ", ".join(f"{v:.0f}" for v in r["lambda"].values())
+                                   + ")" for case, r in sized.items())
+            + ". The off-library torque pulse loses the most to the knots: at its size by the levels (0.64, "
+            "session 10's rows) its lambda with the recording was 43.3 (`python bench/recorded_lambda.py "
+            "offlib_torque_pulse 0.6404`).")
+
+
 def _recorded_misses(rows: list[dict]) -> str:
     """The recorded-command seeds where a planted effect best by BIC in round 1 was not accepted, and why (the
     reasons its refit was refused, where the record keeps them); then how the rows stood when the held-out
@@ -714,34 +771,51 @@ def _recorded_misses(rows: list[dict]) -> str:
     return text + " " + _before_the_score(rows)
 
 
-def _before_the_score(rows: list[dict]) -> str:
-    """The same rows as they stood with the bare held-out error compared (session 9's records)."""
-    archive = OUT / "archive" / "s9_results_recorded.jsonl"
-    if not archive.exists():
-        return ""
-    old = [json.loads(line) for line in archive.read_text().splitlines() if line.strip()]
+def _archived(name: str) -> list[dict]:
+    path = OUT / "archive" / name
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()] if path.exists() else []
+
+
+def _counts(before: list[dict], after: list[dict]) -> list[str]:
+    """Per case in ``after``, its criterion's count in ``before`` -> in ``after`` (right, claimed or
+    unexplained)."""
     parts = []
-    for case in dict.fromkeys(r["case"] for r in rows):
-        before = [r for r in old if r["case"] == case and "error" not in r]
-        after = [r for r in rows if r["case"] == case and "error" not in r]
-        if not before:
+    for case in dict.fromkeys(r["case"] for r in after):
+        old = [r for r in before if r["case"] == case and "error" not in r]
+        new = [r for r in after if r["case"] == case and "error" not in r]
+        if not old:
             continue
-        what = "right" if before[0]["expect"] == "found" else "claimed" if before[0]["expect"] != "unexplained" \
-            else "unexplained"
+        what = {"found": "right", "unexplained": "unexplained"}.get(old[0]["expect"], "claimed")
         count = {"right": lambda rs: sum(all(r["found"]) for r in rs),
                  "claimed": lambda rs: sum(bool(r["accepted"]) for r in rs),
                  "unexplained": lambda rs: sum(bool(r["unexplained"]) for r in rs)}[what]
-        parts.append(f"`{case}` {what} {count(before)}/{len(before)} -> {count(after)}/{len(after)}")
-    if not parts:
-        return ""
-    missed, refits, held_out = _refused(old)
-    return ("Comparing the bare held-out error instead (session 9's records, the same seeds; "
-            "out/calibrate_mc/archive/s9_results_recorded.jsonl), against the score now: " + ", ".join(parts)
-            + f". Then a planted effect best by BIC in round 1 was left out in {len(missed)} seeds, and of the "
-            f"{len(refits)} whose record keeps why, {len(held_out)} were refused by the held-out test alone"
-            + (f", at dBIC {_span(rf['dbic'] for rf in held_out)}" if held_out else "")
-            + ": the right model, more sensitive to its command (a friction near standstill), was charged for "
-            "the recording's noise.")
+        parts.append(f"`{case}` {what} {count(old)}/{len(old)} -> {count(new)}/{len(new)}")
+    return parts
+
+
+def _before_the_score(rows: list[dict]) -> str:
+    """How the rows stood with the bare held-out error compared (session 9's records) against the score
+    (session 10's: the same sizes and seeds), and how they stood sized by the command's levels (session
+    10's) against their lambda with the recording (now)."""
+    s9, s10 = _archived("s9_results_recorded.jsonl"), _archived("s10_results_recorded.jsonl")
+    text = ""
+    parts = _counts(s9, s10)
+    if parts:
+        missed, refits, held_out = _refused(s9)
+        text += ("Comparing the bare held-out error instead (session 9's records against session 10's, the same "
+                 "sizes and seeds; out/calibrate_mc/archive/s9_results_recorded.jsonl and "
+                 "s10_results_recorded.jsonl): " + ", ".join(parts)
+                 + f". With the bare error, a planted effect best by BIC in round 1 was left out in {len(missed)} "
+                 f"seeds, and of the {len(refits)} whose record keeps why, {len(held_out)} were refused by the "
+                 "held-out test alone" + (f", at dBIC {_span(rf['dbic'] for rf in held_out)}" if held_out else "")
+                 + ": the right model, more sensitive to its command (a friction near standstill), was charged "
+                 "for the recording's noise. ")
+    resized = [r for r in rows if r.get("lambda_levels")]
+    parts = _counts(s10, resized)
+    if parts:
+        text += ("Sized by the command's levels (session 10's records, the same seeds; the planted values "
+                 "differ, so the seeds are not paired in size): " + ", ".join(parts) + ".")
+    return text
 
 
 def _refused(rows: list[dict]) -> tuple[list[dict], list[dict], list[dict]]:
@@ -874,6 +948,19 @@ def _recovered(case: Case, r: dict):
     return all(judged) if judged else None
 
 
+def sized_otherwise(case: str, values: dict[str, float], records: list[dict]) -> str | None:
+    """Why the records of ``case`` cannot be joined by new seeds at the sizes ``values`` (a row must be
+    of one size), or None: a record planted at other values (e.g. sized by another lambda)."""
+    for r in records:
+        if r["case"] != case or "error" in r:
+            continue
+        old = r["planted"]
+        if set(old) != set(values) or any(not np.isclose(old[k], values[k], rtol=1e-9, atol=0.0) for k in values):
+            return (f"the records of {case} (seed {r['seed']}) planted {old}, the sizing now gives {values}; a row "
+                    f"must be of one size")
+    return None
+
+
 def write_table() -> None:
     from blocks.result import atomic_write_text
 
@@ -931,7 +1018,8 @@ def main(argv=None) -> int:
     if args.flows is not None and args.recorded:
         parser.error("--flows is for the steady cases, --recorded for the time series: give one")
     configure(args.flows, args.recorded)
-    done = {(r["case"], r["seed"]) for r in load_results()}
+    records = load_results()
+    done = {(r["case"], r["seed"]) for r in records}
     cases = [c for c in CASES if (not args.cases or c.name in args.cases) and (not args.flows or c.kind == "steady")
              and (not args.recorded or c.kind == "time")
              and (c.kind != "mcv" or args.cases)]  # the MCV rig's cases run when named
@@ -944,6 +1032,11 @@ def main(argv=None) -> int:
             started = time.perf_counter()
             _SIZES[case.name] = setup(case.kind).size(case)
             print(f"{case.name}: sized {_SIZES[case.name]} in {time.perf_counter() - started:.0f} s", flush=True)
+        stale = sized_otherwise(case.name, _SIZES[case.name][0], records)
+        if stale:
+            print(f"error: {results_file(case.kind)}: {stale}; move that case's records out (e.g. to "
+                  f"{OUT / 'archive'}) to rerun it at the new size", file=sys.stderr)
+            return 2
         jobs += [(case.name, s, _SIZES[case.name], args.flows, args.recorded) for s in seeds]
     jobs.sort(key=lambda job: job[1])  # seed by seed over the cases: an interrupted run covers every case
     print(f"{len(jobs)} runs", flush=True)

@@ -1,6 +1,7 @@
 """The non-centrality lambda of a planted time-series effect with the command given by its levels and with
 the command imposed as its recording (a latent trace): the chi^2 of the declared model fitted to the
-noise-free truth (bench/calibrate_mc.py's truth and experiment), then whether the effect is accepted.
+noise-free truth (bench/calibrate_mc.py's truth, experiment and sizing, ``Setup.lam``; beside it the chi^2 of
+the tool's own first fit, from one start), then whether the effect is accepted.
 
     python bench/recorded_lambda.py coulomb_friction@shaft 0.1657
     python bench/recorded_lambda.py transport_delay@u 0.000227
@@ -50,7 +51,8 @@ def main(argv=None) -> int:
             cal = calibrate(work / "experiment.yaml", work / "calibration", with_heldout=False)
         truth.unlink()
         print(f"{args.effect} = {args.value:g}, command {'recorded (latent trace)' if recorded else 'by its levels'}: "
-              f"lambda = {cal.initial.fit.chi2:.1f}; accepted {[a[0] for a in cal.accepted] or 'nothing'}", flush=True)
+              f"lambda = {s.lam(clean, recorded):.1f} (the bench's sizing; the tool's first fit: "
+              f"{cal.initial.fit.chi2:.1f}); accepted {[a[0] for a in cal.accepted] or 'nothing'}", flush=True)
     return 0
 
 
