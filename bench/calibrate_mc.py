@@ -813,8 +813,8 @@ def _before_the_score(rows: list[dict]) -> str:
     resized = [r for r in rows if r.get("lambda_levels")]
     parts = _counts(s10, resized)
     if parts:
-        text += ("Sized by the command's levels (session 10's records, the same seeds; the planted values "
-                 "differ, so the seeds are not paired in size): " + ", ".join(parts) + ".")
+        text += ("Sized by the command's levels (session 10's records) against sized by the recording (now; the "
+                 "same seeds, other planted values): " + ", ".join(parts) + ".")
     return text
 
 
