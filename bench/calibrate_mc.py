@@ -627,7 +627,7 @@ def table(results: list[dict]) -> str:
         "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". A seed takes 1 to 5 "
         "minutes here. " + _recorded_sizes(rows) + " A transport delay on the command shorter than a sample "
         "interval is another matter: the knots' times take it whole (`time_delay`'s 0.23 ms: lambda 108 with the "
-        "levels, 1.1 with the recording: `python bench/recorded_lambda.py transport_delay@u 0.000227`), so that "
+        "levels, 0.1 with the recording: `python bench/recorded_lambda.py transport_delay@u 0.000227`), so that "
         "case is not run here. "
         + _recorded_misses(rows)),
         lambda rows: "`python bench/calibrate_mc.py --recorded --cases " + " ".join(
