@@ -305,12 +305,12 @@ class Setup:
         knot times of a latent trace: on the drive line the two starts differ by up to 4 % in chi^2)."""
         from blocks.calibrate.fit import fit
 
-        starts = [model.initial()]
-        x0 = starts[0].copy()
+        initial = model.initial()
+        x0 = initial.copy()
         for k, g in enumerate(model.layout.globals):  # start at the truth's values
             if g.kind == "declared":
                 x0[k] = self.values[g.name]
-        starts = [x0] + (starts if also_from_initial else [])
+        starts = [x0, initial] if also_from_initial else [x0]
         return min(fit(model, x, np.ones(model.layout.size, dtype=bool), max_nfev=60).chi2 for x in starts)
 
     def size(self, case: Case) -> tuple[dict[str, float], dict[str, float], dict[str, float]]:
