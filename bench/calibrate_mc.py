@@ -64,6 +64,7 @@ RESULTS = OUT / "results.jsonl"
 MCV_RESULTS = OUT / "results_mcv.jsonl"  # the steady cases on the MCV rig
 TABLE = ROOT / "docs" / "calibration-montecarlo.md"
 MIN_SEEDS = 20  # the "at least 20 seeds per case": a row with fewer is shown, not judged
+FIT = "scaled"  # the fit's variables scaled to their own sizes (session 12); records without it are older
 
 STEADY_FLOWS_DEFAULT = (12.5, 25.0, 37.5, 50.0, 62.5, 75.0, 87.5)  # l/min, per setting
 STEADY_FLOWS = STEADY_FLOWS_DEFAULT
@@ -464,7 +465,7 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     ranked_first = first is not None and bool(first.refits) and first.accepted is first.refits[0]
     ho_ratio = float(np.sqrt(cal.final.heldout.error / truth_err)) if cal.final and cal.final.heldout else None
     true_command_err = float(np.mean(np.concatenate([((noisy[o] - clean[o]) / s.sigma[o]) ** 2 for o in outputs])))
-    return {"case": case.name, "seed": seed, "kind": case.kind, "expect": case.expect,
+    return {"case": case.name, "seed": seed, "kind": case.kind, "expect": case.expect, "fit": FIT,
             "planted": {p.key: values.get(p.key) for p in case.plants}, "lambda": lams,
             "lambda_levels": by_levels,
             "accepted": accepted, "rounds": rounds, "exchanges": exchanges, "removals": removals, "found": found,

@@ -24,7 +24,9 @@ Each fold's refit runs to convergence: it is given ``max_nfev`` evaluations and,
 limit, continued from where it stopped, up to ``attempts`` times in all. A fold still not converged then is
 named in the result (``unconverged``): a refit cut short predicts worse than the model can, and its error
 would count against the model (leave-one-group-out on the relief rig: one fold's refit of a 4-parameter
-model stopped at 20 evaluations with a held-out error of 12.7 where the converged refit gives 0.72).
+model stopped at 20 evaluations with a held-out error of 12.7 where the converged refit gives 0.72; that
+refit was slow because the fit moved a leakage's start to 1e-10, which blocks/calibrate/fit.py no longer
+does, but a refit can still need more than one attempt's evaluations).
 
 The held-out error is the mean of the squared normalised residuals of the held-out output rows (1 for a
 model that predicts to the noise); per output channel the same mean (chi^2/n: a prediction fits nothing, so
