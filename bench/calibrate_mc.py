@@ -578,7 +578,8 @@ def table(results: list[dict]) -> str:
              "planted one, itself correlated with the spring stiffness) widens that further: in `steady_flow_force` "
              "the accepted model is the truth's own structure, refitted, so its held-out ratio is what estimating "
              "the parameters costs, not a wrong model. The section at the end repeats the steady cases with 60 "
-             "points instead of 21, where both criteria come within reach.",
+             "points instead of 21, where both criteria come within reach."
+             + _heldout_expected(OUT / "results.jsonl", results),
              "- no effect claimed at lambda <= 3: such an effect is real, and the tests accept it whenever the "
              "noise lifts its chi^2 drop over 10 + ln n (dBIC < -10; the 3-SE test is then passed too). For one "
              "candidate that drop is non-central chi^2_1(lambda), so the planted effect passes in "
@@ -601,7 +602,7 @@ def table(results: list[dict]) -> str:
              "check. " + _after_trace_effect()
              + " (The exchange check's margin, a swap must lower BIC by over 1, came after a first run in which "
              "`time_two` swapped the delay on the command for the same delay on the spool, at dBIC -0.0, in 4 "
-             "seeds; those 4 seeds were rerun with it.)",
+             "seeds; those 4 seeds were rerun with it.) " + _scaled_fit(),
              ""] + case_rows(results) + [""] + rec_misses(results)
     lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
@@ -667,7 +668,7 @@ def _section(path: Path, heading: str, text, rerun) -> list[str]:
         return []
     rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
     command = rerun(rows) if callable(rerun) else rerun
-    return [f"## {heading}", "", text(rows), ""] + case_rows(rows) + [""] + rec_misses(rows) \
+    return [f"## {heading}", "", text(rows) + _heldout_expected(path, rows), ""] + case_rows(rows) + [""] + rec_misses(rows) \
         + ["", f"Records: out/calibrate_mc/{path.name}. Rerun: {command}", ""]
 
 
@@ -873,17 +874,115 @@ def _reference(results: list[dict], case: str, what: str) -> str:
     return f"{100 * np.mean(ok):.0f} % ({sum(ok)}/{len(ok)})" if ok else "-"
 
 
+def _heldout_expected(path: Path, rows: list[dict]) -> str:
+    """The held-out criterion against what estimating the right model's parameters costs, per case of a
+    records file: the share of seeds within 1.1 x expected (random noise), expected with these seeds' own
+    noise, and recorded (from bench/heldout_expected.py's file for ``path``, where its planted values are
+    the records')."""
+    expected = OUT / f"heldout_expected_{path.stem}.json"
+    if not expected.exists():
+        return ""
+    parts = []
+    for e in json.loads(expected.read_text()):
+        mine = [r for r in rows if r["case"] == e["case"] and "error" not in r and r.get("heldout_ratio") is not None]
+        if not mine or mine[0]["planted"] != e["planted"]:
+            continue
+        own = {p["seed"]: p["linear"] for p in e["per_seed"]}
+        if sorted(own) != sorted(r["seed"] for r in mine):
+            continue
+        got = sum(r["heldout_ratio"] <= 1.1 for r in mine)
+        parts.append(f"`{e['case']}` {100 * e['expected_share']:.0f} % / {sum(v <= 1.1 for v in own.values())} / "
+                     f"{got} of {len(mine)}")
+    if not parts:
+        return ""
+    return (" What the held-out criterion asks of the right model (`python bench/heldout_expected.py"
+            + {"results": "", "results_mcv": " --mcv"}.get(path.stem, f" --flows {path.stem.removeprefix('results_flows')}")
+            + "`: the truth's own structure linearised about the truth, its parameters estimated without each "
+            "held-out setting; no calibration does better per seed, nonlinearity aside): the share of seeds "
+            "within 1.1 x expected under random noise / the seeds within it expected with these seeds' own "
+            "noise / the seeds within it recorded: " + ", ".join(parts) + ".")
+
+
+def _row_name(path: Path, case: str) -> str:
+    """A row's name across the records files: `case`, the 60-point `case`, the recorded-command `case`."""
+    if path.stem.startswith("results_flows"):
+        return f"the {3 * int(path.stem.removeprefix('results_flows'))}-point `{case}`"
+    return f"the recorded-command `{case}`" if path.stem == "results_recorded" else f"`{case}`"
+
+
+def _section_of(path: Path, kind: str) -> str:
+    """The rows of one kind in one records file, as the table's sections name them."""
+    if path.stem.startswith("results_flows"):
+        return f"every row of the {3 * int(path.stem.removeprefix('results_flows'))}-point section"
+    return {"results_recorded": "every row of the recorded-command section",
+            "results_mcv": "every row of the MCV rig's section"}.get(
+        path.stem, "every time-series row of the first table" if kind == "time" else "every steady row of the first table")
+
+
+def _records(path: Path) -> list[dict]:
+    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()] if path.exists() else []
+
+
+def _scaled_fit() -> str:
+    """Which rows were rerun with the fit's variables scaled (records with ``fit``), what changed against
+    their records from before it (archived as s11_<file>_before_scaled_fit.jsonl: the same seeds), and which
+    rows are still from before it."""
+    rerun, older, changes, moved, seeds = [], [], [], 0, 0
+    for path in sorted(OUT.glob("results*.jsonl")):
+        rows = [r for r in _records(path) if "error" not in r]
+        before = {(r["case"], r["seed"]): r for r in _records(OUT / "archive" / f"s11_{path.stem}_before_scaled_fit.jsonl")}
+        groups: dict[str, list[tuple[str, bool]]] = {}  # a section's rows of one kind: (name, rerun)
+        for case in CASES:
+            mine = [r for r in rows if r["case"] == case.name]
+            if not mine:
+                continue
+            name = _row_name(path, case.name)
+            done = all(r.get("fit") == FIT for r in mine)
+            groups.setdefault(_section_of(path, case.kind), []).append((name, done))
+            if not done:
+                continue
+            rerun.append(name)
+            pairs = [(before[(case.name, r["seed"])], r) for r in mine if (case.name, r["seed"]) in before]
+            seeds += len(pairs)
+            moved += sum(sorted(a["accepted"]) != sorted(b["accepted"]) for a, b in pairs)
+            for label, judge in (("right", lambda r: all(r["found"]) if case.plants else None),
+                                 ("rec", lambda r: _recovered(case, r)),
+                                 ("chi2/nu ok", lambda r: r["chi2nu_after"] is not None
+                                  and 0.8 <= r["chi2nu_after"] <= 1.25),
+                                 ("held-out ok", lambda r: r["heldout_ratio"] is not None
+                                  and r["heldout_ratio"] <= 1.1),
+                                 ("claimed", lambda r: bool(r["accepted"])),
+                                 ("unexpl", lambda r: bool(r["unexplained"]))):
+                old = [judge(a) for a, _ in pairs if judge(a) is not None]
+                new = [judge(b) for _, b in pairs if judge(b) is not None]
+                if pairs and (sum(old), len(old)) != (sum(new), len(new)):
+                    changes.append(f"{name} {label} {sum(old)}/{len(old)} -> {sum(new)}/{len(new)}")
+        for section, members in groups.items():
+            left = [name for name, done in members if not done]
+            older += [f"{section} ({len(left)})"] if len(left) == len(members) else left
+    if not rerun:
+        return ""
+    return ("Session 12 found the fit itself stopping short. scipy's trust-region solver works in the units it "
+            "is given, and in SI the parameters differ by 18 orders of magnitude: it moved a start closer than "
+            "1e-10 to a bound to 1e-10 from it (a leakage of 2e-11 m^3/(s*Pa) to 1e-10: in `steady_leakage` "
+            "seed 15 a held-out fold's refit then did not converge in 100 evaluations and its held-out ratio "
+            "was 2.27, where the linearised right model gives 0.94), and its step tolerance, taken over the "
+            "whole SI vector, reported fits converged while the small parameters still moved. The solver now "
+            "works on each parameter divided by its own size (blocks/calibrate/fit.py). Rerun with it: "
+            + ", ".join(rerun) + f". Against their records from before it (the same {seeds} seeds; "
+            "out/calibrate_mc/archive/s11_*_before_scaled_fit.jsonl) the accepted effects changed in "
+            f"{moved} seeds" + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
+            + ". " + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else ""))
+
+
 def _after_trace_effect() -> str:
     """What the checks after the trace changed in the rows rerun with them: seeds with an exchange made and
     seeds with an effect removed, per case."""
     made: dict[str, int] = {}
     removed: dict[str, int] = {}
     for path in sorted(OUT.glob("results*.jsonl")):
-        for line in path.read_text().splitlines():
-            r = json.loads(line) if line.strip() else {}
-            name = f"the {3 * int(path.stem.removeprefix('results_flows'))}-point `{r.get('case')}`" \
-                if path.stem.startswith("results_flows") else f"the recorded-command `{r.get('case')}`" \
-                if path.stem == "results_recorded" else f"`{r.get('case')}`"
+        for r in _records(path):
+            name = _row_name(path, r.get("case"))
             if any(e["made"] for e in r.get("exchanges", [])):
                 made[name] = made.get(name, 0) + 1
             if any(t["removed"] for t in r.get("removals", [])):

@@ -151,7 +151,7 @@ def main(argv=None) -> int:
         linear, _ = ratios(model, exp, x, np.array([seed_noise(s, model, clean, k) for k in seeds]))
         recorded = np.array([next(r["heldout_ratio"] for r in mine if r["seed"] == k) for k in seeds])
         median, share, n = observed(case.name, mine)
-        rows.append({"case": case.name, "expected_median": float(np.median(got)),
+        rows.append({"case": case.name, "planted": values, "expected_median": float(np.median(got)),
                      "expected_share": float(np.mean(got <= LIMIT)), "observed_median": median,
                      "observed_share": share, "seeds": n, "chi2_at_truth": chi2,
                      "per_seed": [{"seed": k, "linear": float(a), "recorded": float(b)}

@@ -5,9 +5,10 @@ The solver works on each fitted parameter divided by its own size, max(|start|, 
 that every variable it sees is of order 1. In SI the parameters differ by 18 orders of magnitude (a leakage
 conductance of 2e-11 m^3/(s*Pa) beside a latent pressure of 3e6 Pa), and two of the solver's rules are
 absolute or taken over the whole vector: its step tolerance, |dx| < xtol * |x|, then ignores whatever the
-small parameters still do (a sensor gain's refit stopped 15 in chi^2 short of its minimum, reported
-converged), and it moves a start closer than 1e-10 to a bound to 1e-10 from it (a leakage started at
-2e-11 was started at 1e-10 instead, and a held-out refit then did not converge in 100 evaluations).
+small parameters still do (a conductance of 2e-12 beside latent pressures of 1e7 Pa, started at 0.3 of its
+minimum, was reported converged at 2.8 times it: tests/calibrate/test_fit_scaling.py), and it moves a start
+closer than 1e-10 to a bound to 1e-10 from it (a leakage started at 2e-11 was started at 1e-10 instead, and
+a held-out refit then did not converge in 100 evaluations).
 
 Standard errors: cov = (J^T J)^-1 at the solution (the residuals are already divided by the noise, so this
 is the covariance when the model is right), inflated by max(1, chi^2/nu) when the fit is worse than the
