@@ -96,7 +96,10 @@ def ratios(model, exp, x: np.ndarray, nu: np.ndarray) -> tuple[np.ndarray, float
         held_latent = [model.layout.latent_index(int(k), i) for k in idx for i in range(len(model.layout.inputs))]
         active = np.setdiff1d(everything, held_latent)
         train = ~fold_rows
-        dx = np.linalg.pinv(J[np.ix_(train, active)]) @ nu[:, train].T  # (active, draws)
+        Jt = J[np.ix_(train, active)]
+        norms = np.linalg.norm(Jt, axis=0)  # columns scaled: in SI their sizes differ by 1e20, past pinv's cutoff
+        norms = np.where(norms > 0, norms, 1.0)
+        dx = (np.linalg.pinv(Jt / norms) @ nu[:, train].T) / norms[:, None]  # (active, draws)
         dg = dx[active < G]  # the global parameters' error
         sel = fold_rows & outputs
         # the held-out point's latent input is its measured value: truth + sigma_u * nu of its input row
