@@ -102,17 +102,12 @@ def ratios(model, exp, x: np.ndarray, nu: np.ndarray) -> tuple[np.ndarray, float
         dx = (np.linalg.pinv(Jt / norms) @ nu[:, train].T) / norms[:, None]  # (active, draws)
         dg = dx[active < G]  # the global parameters' error
         sel = fold_rows & outputs
-        # the held-out point's latent input is its measured value: truth + sigma_u * nu of its input row
-        input_rows = np.array([np.nonzero(model.row_point == model.row_point[i])[0] for i in np.nonzero(sel)[0]])
+        # the held-out point's latent input is its measured value, truth + sigma_u * nu of its input row; that
+        # row's residual is (latent - measured) / sigma_u, so its own derivative is 1 / sigma_u
         latent_effect = np.zeros((draws, int(sel.sum())))
-        for n, i in enumerate(np.nonzero(sel)[0]):
-            for j in held_latent:
-                if J[i, j] == 0.0:
-                    continue
-                own = [row for row in input_rows[n] if J[row, j] != 0.0 and not outputs[row]]
-                # the input row's residual is (latent - measured) / sigma_u, so dr/dlatent = 1 / sigma_u
-                sigma_u = 1.0 / J[own[0], j]
-                latent_effect[:, n] += J[i, j] * sigma_u * nu[:, own[0]]
+        for j in held_latent:
+            own = np.nonzero((J[:, j] != 0.0) & ~outputs)[0][0]
+            latent_effect += np.outer(nu[:, own], J[sel, j] / J[own, j])
         base = -nu[:, sel] + latent_effect
         ref += np.sum(base ** 2, axis=1)
         err += np.sum((base + (J[np.ix_(sel, np.arange(G))] @ dg).T) ** 2, axis=1)
