@@ -69,7 +69,7 @@ def closed_form(p_bar, q_lpm, sigma_p, sigma_q, r_meter: float = 1e6) -> tuple[f
     return float(best.x / (1 - r_meter * best.x)), chi2(best.x)
 
 
-def recording_starts(model: Model) -> list:
+def evaluated_at(model: Model) -> list:
     """Wrap the model's residuals so that every x it is evaluated at is kept, in order."""
     seen, residuals = [], model.residuals
 
@@ -89,7 +89,7 @@ def test_a_start_next_to_a_bound_is_where_the_fit_starts(tmp_path):
     p, q = readings(2e-12, sigma_p, sigma_q, seed=3)
     g_hat, chi2 = closed_form(p, q, sigma_p, sigma_q)
     model = model_of(tmp_path, p, q, sigma_p, sigma_q, {"initial": 1.9e-12, "lower": 0.0, "upper": 1e-3})
-    seen = recording_starts(model)
+    seen = evaluated_at(model)
     x0 = model.initial()
     res = fit(model, x0, np.ones(model.layout.size, dtype=bool))
     g = model.layout.index("G")
