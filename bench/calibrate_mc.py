@@ -910,6 +910,13 @@ def _row_name(path: Path, case: str) -> str:
     return f"the recorded-command `{case}`" if path.stem == "results_recorded" else f"`{case}`"
 
 
+def _alike(before: dict, after: dict) -> bool:
+    """Whether a seed's accepted effects changed only for places that were reported ambiguous with them,
+    before or after (either side of a two-port valve, say)."""
+    ambiguous = {key for r in (before, after) for rnd in r["rounds"] for key in rnd["ambiguous"]}
+    return set(before["accepted"]) ^ set(after["accepted"]) <= ambiguous
+
+
 def _section_of(path: Path, kind: str) -> str:
     """The rows of one kind in one records file, as the table's sections name them."""
     if path.stem.startswith("results_flows"):
@@ -927,7 +934,7 @@ def _scaled_fit() -> str:
     """Which rows were rerun with the fit's variables scaled (records with ``fit``), what changed against
     their records from before it (archived as s11_<file>_before_scaled_fit.jsonl: the same seeds), and which
     rows are still from before it."""
-    rerun, older, changes, moved, seeds = [], [], [], 0, 0
+    rerun, older, changes, moved, alike, seeds = [], [], [], 0, 0, 0
     for path in sorted(OUT.glob("results*.jsonl")):
         rows = [r for r in _records(path) if "error" not in r]
         before = {(r["case"], r["seed"]): r for r in _records(OUT / "archive" / f"s11_{path.stem}_before_scaled_fit.jsonl")}
@@ -944,7 +951,9 @@ def _scaled_fit() -> str:
             rerun.append(name)
             pairs = [(before[(case.name, r["seed"])], r) for r in mine if (case.name, r["seed"]) in before]
             seeds += len(pairs)
-            moved += sum(sorted(a["accepted"]) != sorted(b["accepted"]) for a, b in pairs)
+            changed = [(a, b) for a, b in pairs if sorted(a["accepted"]) != sorted(b["accepted"])]
+            moved += len(changed)
+            alike += sum(_alike(a, b) for a, b in changed)
             for label, judge in (("right", lambda r: all(r["found"]) if case.plants else None),
                                  ("rec", lambda r: _recovered(case, r)),
                                  ("chi2/nu ok", lambda r: r["chi2nu_after"] is not None
@@ -971,7 +980,7 @@ def _scaled_fit() -> str:
             "works on each parameter divided by its own size (blocks/calibrate/fit.py). Rerun with it: "
             + ", ".join(rerun) + f". Against their records from before it (the same {seeds} seeds; "
             "out/calibrate_mc/archive/s11_*_before_scaled_fit.jsonl) the accepted effects changed in "
-            f"{moved} seeds" + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
+            f"{moved} seeds ({alike} of them only between places reported ambiguous with each other)" + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
             + ". " + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else ""))
 
 
