@@ -666,10 +666,10 @@ def _section(path: Path, heading: str, text, rerun) -> list[str]:
     the rows that gives it)."""
     if not path.exists():
         return []
-    rows = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    rows = _records(path)
     command = rerun(rows) if callable(rerun) else rerun
-    return [f"## {heading}", "", text(rows) + _heldout_expected(path, rows), ""] + case_rows(rows) + [""] + rec_misses(rows) \
-        + ["", f"Records: out/calibrate_mc/{path.name}. Rerun: {command}", ""]
+    return [f"## {heading}", "", text(rows) + _heldout_expected(path, rows), ""] + case_rows(rows) + [""] \
+        + rec_misses(rows) + ["", f"Records: out/calibrate_mc/{path.name}. Rerun: {command}", ""]
 
 
 def case_rows(results: list[dict]) -> list[str]:
@@ -792,8 +792,7 @@ def _recorded_misses(rows: list[dict]) -> str:
 
 
 def _archived(name: str) -> list[dict]:
-    path = OUT / "archive" / name
-    return [json.loads(line) for line in path.read_text().splitlines() if line.strip()] if path.exists() else []
+    return _records(OUT / "archive" / name)
 
 
 def _counts(before: list[dict], after: list[dict]) -> list[str]:
@@ -884,7 +883,7 @@ def _heldout_expected(path: Path, rows: list[dict]) -> str:
         return ""
     parts = []
     for e in json.loads(expected.read_text()):
-        mine = [r for r in rows if r["case"] == e["case"] and "error" not in r and r.get("heldout_ratio") is not None]
+        mine = [r for r in rows if r["case"] == e["case"] and r.get("heldout_ratio") is not None]
         if not mine or mine[0]["planted"] != e["planted"]:
             continue
         own = {p["seed"]: p["linear"] for p in e["per_seed"]}
@@ -896,7 +895,8 @@ def _heldout_expected(path: Path, rows: list[dict]) -> str:
     if not parts:
         return ""
     return (" What the held-out criterion asks of the right model (`python bench/heldout_expected.py"
-            + {"results": "", "results_mcv": " --mcv"}.get(path.stem, f" --flows {path.stem.removeprefix('results_flows')}")
+            + {"results": "", "results_mcv": " --mcv"}.get(path.stem,
+                                                           f" --flows {path.stem.removeprefix('results_flows')}")
             + "`: the truth's own structure linearised about the truth, its parameters estimated without each "
             "held-out setting; no calibration does better per seed, nonlinearity aside): the share of seeds "
             "within 1.1 x expected under random noise / the seeds within it expected with these seeds' own "
@@ -923,11 +923,28 @@ def _section_of(path: Path, kind: str) -> str:
         return f"every row of the {3 * int(path.stem.removeprefix('results_flows'))}-point section"
     return {"results_recorded": "every row of the recorded-command section",
             "results_mcv": "every row of the MCV rig's section"}.get(
-        path.stem, "every time-series row of the first table" if kind == "time" else "every steady row of the first table")
+        path.stem, f"every {'time-series' if kind == 'time' else 'steady'} row of the first table")
 
 
 def _records(path: Path) -> list[dict]:
     return [json.loads(line) for line in path.read_text().splitlines() if line.strip()] if path.exists() else []
+
+
+def _column_changes(name: str, case: Case, pairs: list[tuple[dict, dict]]) -> list[str]:
+    """The table's columns whose count moved between the (before, after) records of the same seeds."""
+    columns = (("right", lambda r: all(r["found"]) if case.plants else None),
+               ("rec", lambda r: _recovered(case, r)),
+               ("chi2/nu ok", lambda r: r["chi2nu_after"] is not None and 0.8 <= r["chi2nu_after"] <= 1.25),
+               ("held-out ok", lambda r: r["heldout_ratio"] is not None and r["heldout_ratio"] <= 1.1),
+               ("claimed", lambda r: bool(r["accepted"])),
+               ("unexpl", lambda r: bool(r["unexplained"])))
+    out = []
+    for label, judge in columns:
+        old = [judge(a) for a, _ in pairs if judge(a) is not None]
+        new = [judge(b) for _, b in pairs if judge(b) is not None]
+        if pairs and (sum(old), len(old)) != (sum(new), len(new)):
+            out.append(f"{name} {label} {sum(old)}/{len(old)} -> {sum(new)}/{len(new)}")
+    return out
 
 
 def _scaled_fit() -> str:
@@ -937,7 +954,7 @@ def _scaled_fit() -> str:
     rerun, older, changes, moved, alike, seeds = [], [], [], 0, 0, 0
     for path in sorted(OUT.glob("results*.jsonl")):
         rows = [r for r in _records(path) if "error" not in r]
-        before = {(r["case"], r["seed"]): r for r in _records(OUT / "archive" / f"s11_{path.stem}_before_scaled_fit.jsonl")}
+        before = {(r["case"], r["seed"]): r for r in _archived(f"s11_{path.stem}_before_scaled_fit.jsonl")}
         groups: dict[str, list[tuple[str, bool]]] = {}  # a section's rows of one kind: (name, rerun)
         for case in CASES:
             mine = [r for r in rows if r["case"] == case.name]
@@ -954,18 +971,7 @@ def _scaled_fit() -> str:
             changed = [(a, b) for a, b in pairs if sorted(a["accepted"]) != sorted(b["accepted"])]
             moved += len(changed)
             alike += sum(_alike(a, b) for a, b in changed)
-            for label, judge in (("right", lambda r: all(r["found"]) if case.plants else None),
-                                 ("rec", lambda r: _recovered(case, r)),
-                                 ("chi2/nu ok", lambda r: r["chi2nu_after"] is not None
-                                  and 0.8 <= r["chi2nu_after"] <= 1.25),
-                                 ("held-out ok", lambda r: r["heldout_ratio"] is not None
-                                  and r["heldout_ratio"] <= 1.1),
-                                 ("claimed", lambda r: bool(r["accepted"])),
-                                 ("unexpl", lambda r: bool(r["unexplained"]))):
-                old = [judge(a) for a, _ in pairs if judge(a) is not None]
-                new = [judge(b) for _, b in pairs if judge(b) is not None]
-                if pairs and (sum(old), len(old)) != (sum(new), len(new)):
-                    changes.append(f"{name} {label} {sum(old)}/{len(old)} -> {sum(new)}/{len(new)}")
+            changes += _column_changes(name, case, pairs)
         for section, members in groups.items():
             left = [name for name, done in members if not done]
             older += [f"{section} ({len(left)})"] if len(left) == len(members) else left
@@ -980,7 +986,8 @@ def _scaled_fit() -> str:
             "works on each parameter divided by its own size (blocks/calibrate/fit.py). Rerun with it: "
             + ", ".join(rerun) + f". Against their records from before it (the same {seeds} seeds; "
             "out/calibrate_mc/archive/s11_*_before_scaled_fit.jsonl) the accepted effects changed in "
-            f"{moved} seeds ({alike} of them only between places reported ambiguous with each other)" + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
+            f"{moved} seeds ({alike} of them only between places reported ambiguous with each other)"
+            + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
             + ". " + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else ""))
 
 
