@@ -898,7 +898,7 @@ def _heldout_expected(path: Path, rows: list[dict]) -> str:
             + {"results": "", "results_mcv": " --mcv"}.get(path.stem,
                                                            f" --flows {path.stem.removeprefix('results_flows')}")
             + "`: the truth's own structure linearised about the truth, its parameters estimated without each "
-            "held-out setting; no calibration does better per seed, nonlinearity aside): the share of seeds "
+            "held-out setting: what the right model itself gets, nonlinearity aside): the share of seeds "
             "within 1.1 x expected under random noise / the seeds within it expected with these seeds' own "
             "noise / the seeds within it recorded: " + ", ".join(parts) + ".")
 

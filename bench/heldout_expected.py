@@ -14,8 +14,9 @@ sigma on every row, J = dr/dx, the noise nu ~ N(0, I) on every row, so r(truth) 
 
 (J_iu: row i's sensitivity to its own point's latent input, set to the measured value; sigma_u that input's
 noise.) Drawing nu gives the distribution of the ratio that a model of the truth's own structure reaches
-when nothing is wrong with it but its estimated parameters; nonlinearity aside, no calibration can do better
-per seed. The model is the declared one with the case's planted effects freed beside the declared free
+when nothing is wrong with it but its estimated parameters, nonlinearity aside: what the right model
+itself gets, seed by seed (the column scaling below only keeps pinv's cutoff from dropping the parameters
+that are small in SI). The model is the declared one with the case's planted effects freed beside the declared free
 parameters (the final model of a seed that found them), at the planted values of the case's records.
 
     python bench/heldout_expected.py                      # the relief rig's rows (21 points)
