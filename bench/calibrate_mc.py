@@ -693,7 +693,8 @@ def case_rows(results: list[dict]) -> list[str]:
         errors = len(rows) - len(good)
         planted = ", ".join(f"{k} = {v:.3g}" for k, v in (good[0]["planted"] if good else {}).items()) or "none"
         lam = ", ".join(f"{v:.3g}" for v in (good[0]["lambda"] if good else {}).values()) or "-"
-        if lam != "-" and any(r.get("lambda_levels") for r in results) and not good[0].get("lambda_levels"):
+        resized = any(r.get("lambda_levels") and r["lambda_levels"] != r["lambda"] for r in results)
+        if lam != "-" and resized and not good[0].get("lambda_levels"):
             lam += " (by the levels)"  # a row of a section sized by another lambda, not yet resized
         right = [all(r["found"]) for r in good] if case.plants else []
         rec = [_recovered(case, r) for r in good] if case.plants else []
