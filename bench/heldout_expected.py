@@ -130,7 +130,11 @@ def main(argv=None) -> int:
     mc.configure(args.flows)
     kind = "mcv" if args.mcv else "steady"
     path = mc.results_file(kind)
-    records = [json.loads(line) for line in path.read_text().splitlines() if line.strip()]
+    if not path.exists():
+        print(f"error: {path}: no Monte Carlo records to compare with (run bench/calibrate_mc.py first)",
+              file=sys.stderr)
+        return 2
+    records = mc._records(path)
     s = mc.setup(kind)
     rng = np.random.default_rng(0)
     print(f"{path.name}: held-out RMSE ratio of the right model, its parameters estimated (linearised, "
@@ -160,7 +164,9 @@ def main(argv=None) -> int:
               f" | recorded: median {median:.3f}, <= {LIMIT} in {share:5.1%} ({n})   [chi^2 at the truth {chi2:.2g}]",
               flush=True)
     target = mc.OUT / f"heldout_expected_{path.stem}.json"
-    target.write_text(json.dumps(rows, indent=1))
+    from blocks.result import atomic_write_text
+
+    atomic_write_text(target, json.dumps(rows, indent=1))
     print(f"written {target}")
     return 0
 
