@@ -33,14 +33,16 @@ held-out errors), and these are recorded:
     python bench/calibrate_mc.py --table                         # the table from what has run so far
     python bench/calibrate_mc.py --examples                      # rewrite the two example data files
 
-Results go to out/calibrate_mc/results.jsonl (one line per case and seed; a rerun skips what is there) and
-the table to docs/calibration-montecarlo.md.
+Results go to bench/records/results.jsonl (one line per case and seed; a rerun skips what is there;
+committed, since the table is written from them and a new checkout has no out/) and the table to
+docs/calibration-montecarlo.md. The truth netlists and each seed's run stay under out/calibrate_mc/.
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import re
 import sys
 import time
 from concurrent.futures import ProcessPoolExecutor, as_completed
@@ -59,9 +61,10 @@ MCV_EXP = EXPERIMENTS / "mcv_vf250_multistep.yaml"
 MCV_DATA = ROOT.parent / "shared" / "data" / "mcv_vf250_multistep.csv"
 MCV_KP = 895e5  # the truth's spring stiffness kp = kp1 (kp2 = 0 in the experiment): the thesis's 895 bar/unit
 TIME_EXP = EXPERIMENTS / "drive_line_series.yaml"
-OUT = ROOT / "out" / "calibrate_mc"
-RESULTS = OUT / "results.jsonl"
-MCV_RESULTS = OUT / "results_mcv.jsonl"  # the steady cases on the MCV rig
+OUT = ROOT / "out" / "calibrate_mc"  # scratch: truth netlists, each seed's run
+RECORDS = ROOT / "bench" / "records"  # committed: the per-seed records the table is written from
+RESULTS = RECORDS / "results.jsonl"
+MCV_RESULTS = RECORDS / "results_mcv.jsonl"  # the steady cases on the MCV rig
 TABLE = ROOT / "docs" / "calibration-montecarlo.md"
 MIN_SEEDS = 20  # the issue's "at least 20 seeds per case": a row with fewer is shown, not judged
 FIT = "scaled"  # the fit's variables scaled to their own sizes (session 12); records without it are older
@@ -507,7 +510,7 @@ def configure(flows: int | None, recorded: bool = False) -> None:
         _SETUPS.pop("steady", None)
         _SIZES.clear()
     STEADY_FLOWS, RECORDED = new, recorded
-    RESULTS = OUT / ("results_recorded.jsonl" if recorded else "results.jsonl" if not flows
+    RESULTS = RECORDS / ("results_recorded.jsonl" if recorded else "results.jsonl" if not flows
                      else f"results_flows{flows}.jsonl")
 
 
@@ -579,7 +582,7 @@ def table(results: list[dict]) -> str:
              "the accepted model is the truth's own structure, refitted, so its held-out ratio is what estimating "
              "the parameters costs, not a wrong model. The section at the end repeats the steady cases with 60 "
              "points instead of 21, where both criteria come within reach."
-             + _heldout_expected(OUT / "results.jsonl", results),
+             + _heldout_expected(RECORDS / "results.jsonl", results),
              "- no effect claimed at lambda <= 3: such an effect is real, and the tests accept it whenever the "
              "noise lifts its chi^2 drop over 10 + ln n (dBIC < -10; the 3-SE test is then passed too). For one "
              "candidate that drop is non-central chi^2_1(lambda), so the planted effect passes in "
@@ -604,9 +607,9 @@ def table(results: list[dict]) -> str:
              "`time_two` swapped the delay on the command for the same delay on the spool, at dBIC -0.0, in 4 "
              "seeds; those 4 seeds were rerun with it.) " + _scaled_fit(),
              ""] + case_rows(results) + [""] + rec_misses(results)
-    lines += ["", "Per-seed records: out/calibrate_mc/results.jsonl (not committed). Rerun: "
+    lines += ["", "Per-seed records: bench/records/results.jsonl. Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
-    for dense in sorted(OUT.glob("results_flows*.jsonl")):
+    for dense in sorted(RECORDS.glob("results_flows*.jsonl")):
         flows = int(dense.stem.removeprefix("results_flows"))
         lines += _section(dense, f"The steady cases with {flows} flows per setting ({3 * flows} points)", lambda rows: (
             f"The same relief rig, settings, noise and criteria, with {flows} flows per setting evenly from "
@@ -615,7 +618,7 @@ def table(results: list[dict]) -> str:
             f"{_band_rate(3 * flows * 4 - 3 * flows - 3)} of seeds in theory. At lambda <= 3 the planted "
             f"effect passes dBIC < -10 by its noise in {_chance_claim(rows, 'steady_small', 3 * flows * 4)}."),
             f"`python bench/calibrate_mc.py --flows {flows} --seeds 20 --workers 2` (the steady cases only).")
-    lines += _section(OUT / "results_recorded.jsonl",
+    lines += _section(RECORDS / "results_recorded.jsonl",
                       "The time series with the command imposed as its recording (a latent trace)", lambda rows: (
         "The same drive line, truths, noise and criteria; but the experiment has no command profile "
         "of its own: the netlist's profile reads the seed's recorded command column (noise 0.005), "
@@ -669,7 +672,7 @@ def _section(path: Path, heading: str, text, rerun) -> list[str]:
     rows = _records(path)
     command = rerun(rows) if callable(rerun) else rerun
     return [f"## {heading}", "", text(rows) + _heldout_expected(path, rows), ""] + case_rows(rows) + [""] \
-        + rec_misses(rows) + ["", f"Records: out/calibrate_mc/{path.name}. Rerun: {command}", ""]
+        + rec_misses(rows) + ["", f"Records: bench/records/{path.name}. Rerun: {command}", ""]
 
 
 def case_rows(results: list[dict]) -> list[str]:
@@ -793,7 +796,7 @@ def _recorded_misses(rows: list[dict]) -> str:
 
 
 def _archived(name: str) -> list[dict]:
-    return _records(OUT / "archive" / name)
+    return _records(RECORDS / "archive" / name)
 
 
 def _counts(before: list[dict], after: list[dict]) -> list[str]:
@@ -823,7 +826,7 @@ def _before_the_score(rows: list[dict]) -> str:
     if parts:
         missed, refits, held_out = _refused(s9)
         text += ("Comparing the bare held-out error instead (session 9's records against session 10's, the same "
-                 "sizes and seeds; out/calibrate_mc/archive/s9_results_recorded.jsonl and "
+                 "sizes and seeds; bench/records/archive/s9_results_recorded.jsonl and "
                  "s10_results_recorded.jsonl): " + ", ".join(parts)
                  + f". With the bare error, a planted effect best by BIC in round 1 was left out in {len(missed)} "
                  f"seeds, and of the {len(refits)} whose record keeps why, {len(held_out)} were refused by the "
@@ -879,7 +882,7 @@ def _heldout_expected(path: Path, rows: list[dict]) -> str:
     records file: the share of seeds within 1.1 x expected (random noise), expected with these seeds' own
     noise, and recorded (from bench/heldout_expected.py's file for ``path``, where its planted values are
     the records')."""
-    expected = OUT / f"heldout_expected_{path.stem}.json"
+    expected = RECORDS / f"heldout_expected_{path.stem}.json"
     if not expected.exists():
         return ""
     parts = []
@@ -953,7 +956,7 @@ def _scaled_fit() -> str:
     their records from before it (archived as s11_<file>_before_scaled_fit.jsonl: the same seeds), and which
     rows are still from before it."""
     rerun, older, changes, moved, alike, seeds = [], [], [], 0, 0, 0
-    for path in sorted(OUT.glob("results*.jsonl")):
+    for path in sorted(RECORDS.glob("results*.jsonl")):
         rows = [r for r in _records(path) if "error" not in r]
         before = {(r["case"], r["seed"]): r for r in _archived(f"s11_{path.stem}_before_scaled_fit.jsonl")}
         groups: dict[str, list[tuple[str, bool]]] = {}  # a section's rows of one kind: (name, rerun)
@@ -986,7 +989,7 @@ def _scaled_fit() -> str:
             "whole SI vector, reported fits converged while the small parameters still moved. The solver now "
             "works on each parameter divided by its own size (blocks/calibrate/fit.py). Rerun with it: "
             + ", ".join(rerun) + f". Against their records from before it (the same {seeds} seeds; "
-            "out/calibrate_mc/archive/s11_*_before_scaled_fit.jsonl) the accepted effects changed in "
+            "bench/records/archive/s11_*_before_scaled_fit.jsonl) the accepted effects changed in "
             f"{moved} seeds ({alike} of them only between places reported ambiguous with each other)"
             + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
             + ". " + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else ""))
@@ -997,7 +1000,7 @@ def _after_trace_effect() -> str:
     seeds with an effect removed, per case."""
     made: dict[str, int] = {}
     removed: dict[str, int] = {}
-    for path in sorted(OUT.glob("results*.jsonl")):
+    for path in sorted(RECORDS.glob("results*.jsonl")):
         for r in _records(path):
             name = _row_name(path, r.get("case"))
             if any(e["made"] for e in r.get("exchanges", [])):
@@ -1096,13 +1099,39 @@ def sized_otherwise(case: str, values: dict[str, float], records: list[dict]) ->
     return None
 
 
-def write_table() -> None:
+def would_lose(committed: str) -> list[str]:
+    """The rows of the committed table that a table written from the records now present would not have:
+    each section of ``committed`` names its records file (its 'Records:' line) and each row its case. A
+    table is written only when this is empty, so a checkout without some records (or a run of one case)
+    never replaces a section's measured rows by nothing."""
+    lost, cases = [], []
+    for line in committed.splitlines():
+        if line.startswith("| ") and not line.startswith(("| case ", "|---")):
+            cases.append(line.split("|")[1].strip())
+        found = re.search(r"[Rr]ecords: \S*?(results\w*\.jsonl)", line)
+        if found:
+            have = {r["case"] for r in _records(RECORDS / found[1])} if (RECORDS / found[1]).exists() else set()
+            missing = [c for c in cases if c not in have]
+            if missing:
+                lost.append(f"{found[1]}: {', '.join(missing)}")
+            cases = []
+    return lost
+
+
+def write_table() -> bool:
+    """Write the table from the records; refuse (and say what is missing) if it would drop committed rows."""
     from blocks.result import atomic_write_text
 
-    main = OUT / "results.jsonl"  # the main table's, whatever --flows this run had
+    lost = would_lose(TABLE.read_text()) if TABLE.exists() else []
+    if lost:
+        print(f"not writing {TABLE}: its rows of " + "; ".join(lost) + f" have no records in {RECORDS}",
+              file=sys.stderr)
+        return False
+    main = RECORDS / "results.jsonl"  # the main table's, whatever --flows this run had
     results = [json.loads(line) for line in main.read_text().splitlines() if line.strip()] if main.exists() else []
     atomic_write_text(TABLE, table(results))
     print(f"wrote {TABLE}")
+    return True
 
 
 # ---- the example data files -------------------------------------------------------------------------------
@@ -1147,9 +1176,9 @@ def main(argv=None) -> int:
         examples()
         return 0
     if args.table:
-        write_table()
-        return 0
+        return 0 if write_table() else 2
     OUT.mkdir(parents=True, exist_ok=True)
+    RECORDS.mkdir(parents=True, exist_ok=True)
     if args.flows is not None and args.recorded:
         parser.error("--flows is for the steady cases, --recorded for the time series: give one")
     configure(args.flows, args.recorded)
@@ -1170,7 +1199,7 @@ def main(argv=None) -> int:
         stale = sized_otherwise(case.name, _SIZES[case.name][0], records)
         if stale:
             print(f"error: {results_file(case.kind)}: {stale}; move that case's records out (e.g. to "
-                  f"{OUT / 'archive'}) to rerun it at the new size", file=sys.stderr)
+                  f"{RECORDS / 'archive'}) to rerun it at the new size", file=sys.stderr)
             return 2
         jobs += [(case.name, s, _SIZES[case.name], args.flows, args.recorded) for s in seeds]
     jobs.sort(key=lambda job: job[1])  # seed by seed over the cases: an interrupted run covers every case

@@ -163,7 +163,7 @@ def main(argv=None) -> int:
               f" | its seeds' noise: median {np.median(linear):.3f}, <= {LIMIT} in {np.mean(linear <= LIMIT):5.1%}"
               f" | recorded: median {median:.3f}, <= {LIMIT} in {share:5.1%} ({n})   [chi^2 at the truth {chi2:.2g}]",
               flush=True)
-    target = mc.OUT / f"heldout_expected_{path.stem}.json"
+    target = mc.RECORDS / f"heldout_expected_{path.stem}.json"
     from blocks.result import atomic_write_text
 
     atomic_write_text(target, json.dumps(rows, indent=1))
