@@ -67,7 +67,8 @@ RESULTS = RECORDS / "results.jsonl"
 MCV_RESULTS = RECORDS / "results_mcv.jsonl"  # the steady cases on the MCV rig
 TABLE = ROOT / "docs" / "calibration-montecarlo.md"
 MIN_SEEDS = 20  # the "at least 20 seeds per case": a row with fewer is shown, not judged
-FIT = "scaled"  # the fit's variables scaled to their own sizes (session 12); records without it are older
+FIT = "restarts"  # session 13: refits near the best tried from more starts; "scaled" (session 12): the fit's
+SCALED = ("scaled", "restarts")  # variables scaled to their own sizes; records with neither are older
 
 STEADY_FLOWS_DEFAULT = (12.5, 25.0, 37.5, 50.0, 62.5, 75.0, 87.5)  # l/min, per setting
 STEADY_FLOWS = STEADY_FLOWS_DEFAULT
@@ -433,6 +434,10 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     rounds = [{"accepted": r.decision.accepted.score.place.key if r.decision.accepted else None,
                "ambiguous": r.decision.ambiguous,
                "best_by_bic": r.decision.refits[0].score.place.key if r.decision.refits else None,
+               # every refit's dBIC, and from its first start alone where it was tried from more
+               "refits": [{"key": rf.score.place.key, "dbic": rf.dbic,
+                           "dbic_first_start": rf.starts[0][1] - rf.base_chi2 + np.log(rf.fit.n),
+                           "starts": len(rf.starts)} for rf in r.decision.refits],
                "top_score": max((sc.place.key for sc in r.scores if sc.status == "screened"),
                                 key=lambda k: next(sc.T for sc in r.scores if sc.place.key == k), default=None),
                # why a planted effect that was refitted was not accepted (its tests, held-out included)
@@ -965,7 +970,7 @@ def _scaled_fit() -> str:
             if not mine:
                 continue
             name = _row_name(path, case.name)
-            done = all(r.get("fit") == FIT for r in mine)
+            done = all(r.get("fit") in SCALED for r in mine)
             groups.setdefault(_section_of(path, case.kind), []).append((name, done))
             if not done:
                 continue
@@ -988,11 +993,12 @@ def _scaled_fit() -> str:
             "was 2.27, where the linearised right model gives 0.94), and its step tolerance, taken over the "
             "whole SI vector, reported fits converged while the small parameters still moved. The solver now "
             "works on each parameter divided by its own size (blocks/calibrate/fit.py). Rerun with it: "
-            + ", ".join(rerun) + f". Against their records from before it (the same {seeds} seeds; "
+            + ", ".join(rerun) + ". " + ((f"Against their records from before it (the same {seeds} seeds; "
             "bench/records/archive/s11_*_before_scaled_fit.jsonl) the accepted effects changed in "
             f"{moved} seeds ({alike} of them only between places reported ambiguous with each other)"
-            + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
-            + ". " + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else ""))
+            + ("; " + ", ".join(changes) if changes else ", and no column's count changed") + ". ") if seeds else
+            "(Their records from before it were not committed and are gone: no seed-by-seed comparison.) ")
+            + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else ""))
 
 
 def _after_trace_effect() -> str:

@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from blocks.calibrate.selection import several_minima
 from blocks.result import atomic_write_figure, atomic_write_text
 from blocks.units import UnitError, display_factor
 
@@ -97,7 +98,8 @@ def refit_rows(rnd) -> list[dict]:
              "heldout_error": r.heldout.error if r.heldout else None,
              "heldout_score": r.heldout.score if r.heldout else None, "accepted": r.accepted, "reasons": r.reasons,
              "converged": r.fit.converged, "evaluations": r.fit.nfev,
-             "meaning": r.score.place.meaning}
+             "starts": [{"start": label, "chi2": chi2} for label, chi2 in r.starts],
+             "several_minima": several_minima(r), "meaning": r.score.place.meaning}
             for r in rnd.decision.refits]
 
 
@@ -301,6 +303,11 @@ def markdown(cal, info: dict) -> str:
             L.append(f"| {f['key']} | {_g(f['value'])} | {_g(f['se'], 2)} | {_g(f['z'], 3)} | {dbic} | "
                      f"{f['plausible']} | {_g(f['heldout_error'], 3)} | {_g(f['heldout_score'], 4)} | {f['accepted']} | "
                      f"{'; '.join(f['reasons'])} |")
+        several = [f for f in r["refits"] if f["several_minima"]]
+        if several:
+            L += ["", "Refits whose starts ended at different chi^2 (several minima; the lowest counts above):"]
+            L += [f"- {f['key']}: " + ", ".join(f"from its {s['start']} {_g(s['chi2'], 5)}" for s in f["starts"])
+                  for f in several]
         if r["ambiguous"]:
             L += ["", "Ambiguous: " + ", ".join(r["ambiguous"])] + [f"- {s}" for s in r["separation"]]
             L += [f"- what the choice changes: {s}" for s in r["choice_moves"]]

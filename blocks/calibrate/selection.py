@@ -7,6 +7,12 @@ fit with the candidate at its linearised estimate (clipped into its bounds), sam
 stops at its evaluation limit is continued once from where it stopped, and the report marks one that
 stopped again (its dBIC is then an upper bound).
     dBIC = chi^2_new - chi^2_current + ln(n)      (one parameter more; known noise)
+More starts: a refit from one start can end in a local minimum (the chi^2 of a circuit with unstable equilibria
+at some parameters has several: on the MCV's real data a p1 sensor gain refitted from its linearised estimate
+ended at chi^2 603.8, and from half of it, the rest where the first ended, at 589.1). So every refit that passes
+the fit tests (below) and ends within RESTART_WITHIN in BIC of the best is refitted again from RESTART_FACTORS
+starts: the first refit's end with the candidate's parameter moved to zero + f * (phi - zero). The lowest chi^2
+of its starts counts, and the report lists every start's chi^2 where they differ.
 Accepted only if all hold, tried in BIC order until one passes:
     |phi - phi0| > 3 SE, phi inside the candidate's physically plausible range, dBIC < -10, and the
     held-out error with the candidate (refits without each fold) is lower than without it.
@@ -36,6 +42,8 @@ DBIC_MAX = -10.0
 AMBIGUOUS_DBIC = 10.0
 PARALLEL = 0.99
 REFIT_EVALUATIONS = 40  # per attempt; a refit that stops at this limit gets one more attempt
+RESTART_WITHIN = 3 * AMBIGUOUS_DBIC  # refits this close to the best in BIC are tried from more starts
+RESTART_FACTORS = (0.5, 1.5)  # the candidate's parameter, relative to its zero, at the further starts
 
 
 def z_score(phi: float, zero: float, se: float) -> float:
@@ -56,6 +64,9 @@ class Refit:
     heldout: HeldOut | None = None
     accepted: bool = False
     reasons: list = field(default_factory=list)
+    column: int = -1  # the candidate's parameter's entry in x
+    base_chi2: float = float("nan")  # the same model's chi^2 with the candidate at its zero
+    starts: list = field(default_factory=list)  # (start, chi^2 at its end) of every start tried, the first first
 
     @property
     def z(self) -> float:
@@ -85,27 +96,62 @@ def candidates_to_refit(scores: list[Score], top: int) -> list[Score]:
 def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Score) -> Refit:
     """Fit ``model`` (the current model plus the candidate at entry ``column`` of x) from x0, where x0 has
     the candidate at its zero; the base chi^2 is the same model's at x0."""
-    place = score.place
-    rows = base.rows
     from blocks.calibrate.fit import points_of
 
+    rows = base.rows
     base_chi2 = float(np.sum(model.residuals(x0, points_of(model, rows))[rows] ** 2))
     active = base.active.copy()
     active[column] = True
     start = x0.copy()
     lo, hi = model.bounds()
     start[column] = float(np.clip(score.phi, lo[column], hi[column]))
+    rf = _refit_result(score, model, _fit_continued(model, start, active, rows), column, base_chi2)
+    rf.starts.append(("linearised estimate", rf.fit.chi2))
+    return rf
+
+
+def _fit_continued(model: Model, start: np.ndarray, active: np.ndarray, rows: np.ndarray) -> FitResult:
+    """A fit from ``start``; one that stops at its evaluation limit is continued once from where it stopped."""
     f = fit(model, start, active, rows, max_nfev=REFIT_EVALUATIONS)
     if not f.converged:  # cut short, its chi^2 drop is understated: once more from where it stopped
         first = f
         f = fit(model, first.x, active, rows, max_nfev=REFIT_EVALUATIONS)
         f.nfev += first.nfev
         f.failures = first.failures + f.failures
+    return f
+
+
+def _refit_result(score: Score, model: Model, f: FitResult, column: int, base_chi2: float) -> Refit:
     phi, se = float(f.x[column]), float(f.se[column])
     dchi2 = f.chi2 - base_chi2
-    dbic = dchi2 + np.log(f.n)
-    lo_p, hi_p = place.plausible
-    return Refit(score, model, f, phi, se, float(dchi2), float(dbic), bool(lo_p <= phi <= hi_p))
+    lo_p, hi_p = score.place.plausible
+    return Refit(score, model, f, phi, se, float(dchi2), float(dchi2 + np.log(f.n)), bool(lo_p <= phi <= hi_p),
+                 column=column, base_chi2=base_chi2)
+
+
+def restarted(rf: Refit) -> Refit:
+    """``rf`` tried again from RESTART_FACTORS starts (its end, the candidate's parameter moved to
+    zero + f * (phi - zero), clipped into its bounds): the refit with the lowest chi^2, every start listed."""
+    zero = rf.score.place.zero
+    lo, hi = rf.model.bounds()
+    best, evaluations = rf, rf.fit.nfev
+    for factor in RESTART_FACTORS:
+        start = rf.fit.x.copy()
+        start[rf.column] = float(np.clip(zero + factor * (rf.phi - zero), lo[rf.column], hi[rf.column]))
+        f = _fit_continued(rf.model, start, rf.fit.active, rf.fit.rows)
+        evaluations += f.nfev
+        rf.starts.append((f"{factor:g} x its first value", f.chi2))
+        if f.chi2 < best.fit.chi2:
+            best = _refit_result(rf.score, rf.model, f, rf.column, rf.base_chi2)
+    best.starts = rf.starts
+    best.fit.nfev = evaluations
+    return best
+
+
+def several_minima(rf: Refit, tol: float = 1.0) -> bool:
+    """Whether the starts of ``rf`` ended more than ``tol`` apart in chi^2."""
+    chi2 = [c for _, c in rf.starts]
+    return len(chi2) > 1 and max(chi2) - min(chi2) > tol
 
 
 def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_fit: FitResult,
@@ -117,6 +163,10 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
         model, x0, column = candidate_model(s)
         refits.append(refit(model, x0, column, _aligned(base_fit, base_model, model), s))
     refits.sort(key=lambda r: r.dbic)
+    if refits:
+        lead = refits[0].dbic
+        refits = [restarted(rf) if rf.passes_fit_tests and rf.dbic - lead < RESTART_WITHIN else rf for rf in refits]
+        refits.sort(key=lambda r: r.dbic)
     base_ho = None
     accepted = None
     for rf in refits:

@@ -118,3 +118,80 @@ def test_the_report_says_which_shared_parameters_the_ambiguous_choice_moves():
                                                   "0.53 (2.5 SE)")
     b.fit.x[0], b.fit.x[1] = 895.5e5, 0.45
     assert selection.choice_moves(a, b) is None
+
+
+class _TwoBasins:
+    """chi^2 with two minima along the candidate's parameter phi (entry 1; zero 0) and a declared parameter a
+    (entry 0) fixed by its own row: r = [100 (phi - 1)(phi - 0.45), 3 (phi - 0.45), a - 2]. The global minimum is
+    phi = 0.45 (chi^2 0); a local one lies near phi = 1 (chi^2 about 2.7), behind a ridge at phi = 0.725
+    (chi^2 about 57)."""
+
+    n_rows = 3
+    data = SimpleNamespace(kind="time")
+
+    def __init__(self):
+        self.failures = []
+
+    def residuals(self, x, points=None):
+        a, phi = x
+        return np.array([100.0 * (phi - 1.0) * (phi - 0.45), 3.0 * (phi - 0.45), a - 2.0])
+
+    def jacobian(self, x, cols, points, r0):
+        a, phi = x
+        J = np.array([[0.0, 100.0 * (2.0 * phi - 1.45)], [0.0, 3.0], [1.0, 0.0]])
+        return J[:, cols]
+
+    def bounds(self):
+        return np.array([-10.0, 0.0]), np.array([10.0, 10.0])
+
+    def steps(self):
+        return np.array([1e-6, 1e-6])
+
+
+def test_a_refit_in_a_local_minimum_is_found_lower_from_a_further_start():
+    """Started at the linearised estimate 1.05 the refit ends in the local minimum near 1; from half its
+    value (0.5) the further start crosses to the global one at 0.45: the refit reports that one, its chi^2
+    drop, and both starts' chi^2, which differ (several minima)."""
+    model = _TwoBasins()
+    place = SimpleNamespace(key="gain@p1", zero=0.0, plausible=(0.0, 10.0))
+    score = Score(place, "screened", phi=1.05)
+    base = SimpleNamespace(rows=np.ones(3, dtype=bool), active=np.array([True, False]))
+    first = selection.refit(model, np.array([2.0, 0.0]), 1, base, score)
+    assert abs(first.phi - 1.0) < 0.01 and first.fit.chi2 > 2.5
+    assert not selection.several_minima(first)
+    best = selection.restarted(first)
+    assert abs(best.phi - 0.45) < 1e-4 and best.fit.chi2 < 1e-8
+    base_chi2 = 100.0 ** 2 * 0.45 ** 2 + 9.0 * 0.45 ** 2  # phi at its zero, a at 2
+    assert np.isclose(best.dchi2, -base_chi2, rtol=1e-6)
+    assert [label for label, _ in best.starts] == ["linearised estimate", "0.5 x its first value",
+                                                   "1.5 x its first value"]
+    assert selection.several_minima(best)
+
+
+def test_only_refits_that_pass_and_lie_near_the_best_are_tried_from_more_starts(monkeypatch):
+    """dBIC of the first refits: -100 (best), -75 (25 behind: tried again), -65 (35 behind: not), -90 but
+    under 3 SE (fails the fit tests: not). The one tried again is ranked by its better start."""
+    first = {"a": -100.0, "b": -75.0, "c": -65.0, "d": -90.0}
+    z = {"a": 20.0, "b": 20.0, "c": 20.0, "d": 2.0}
+    tried = []
+
+    def fake_refit(model, x0, column, base, score):
+        key = score.place.key
+        return selection.Refit(score, None, None, z[key], 1.0, first[key] - 5.0, first[key], True)
+
+    def fake_restarted(rf):
+        tried.append(rf.score.place.key)
+        rf.dbic -= 30.0
+        return rf
+
+    monkeypatch.setattr(selection, "refit", fake_refit)
+    monkeypatch.setattr(selection, "restarted", fake_restarted)
+    monkeypatch.setattr(selection, "_aligned", lambda base, base_model, model: base)
+    monkeypatch.setattr(selection, "separate", lambda a, b: [])
+    monkeypatch.setattr(selection, "choice_moves", lambda a, b: None)
+    scores = [Score(SimpleNamespace(key=k, zero=0.0, plausible=(-1e9, 1e9)), "screened", T=50.0 - i)
+              for i, k in enumerate("abcd")]
+    decision = selection.decide(scores, 4, None, None, None, lambda s: (None, None, 0), with_heldout=False)
+    assert sorted(tried) == ["a", "b"]
+    assert [rf.score.place.key for rf in decision.refits] == ["a", "b", "d", "c"]
+    assert decision.accepted.score.place.key == "a"
