@@ -59,5 +59,7 @@ def test_the_table_is_left_untouched(tmp_path, monkeypatch):
     table = tmp_path / "table.md"
     table.write_text(COMMITTED)
     monkeypatch.setattr(mc, "TABLE", table)
+    monkeypatch.setattr(mc, "OUT", tmp_path / "out")
     assert mc.write_table() is False
     assert table.read_text() == COMMITTED
+    assert (tmp_path / "out" / "table_partial.md").exists()
