@@ -306,7 +306,7 @@ def markdown(cal, info: dict) -> str:
         several = [f for f in r["refits"] if f["several_minima"]]
         if several:
             L += ["", "Refits whose starts ended at different chi^2 (several minima; the lowest counts above):"]
-            L += [f"- {f['key']}: " + ", ".join(f"from its {s['start']} {_g(s['chi2'], 5)}" for s in f["starts"])
+            L += [f"- {f['key']}: " + ", ".join(f"from {s['start']} {_g(s['chi2'], 5)}" for s in f["starts"])
                   for f in several]
         if r["ambiguous"]:
             L += ["", "Ambiguous: " + ", ".join(r["ambiguous"])] + [f"- {s}" for s in r["separation"]]

@@ -106,7 +106,7 @@ def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Sco
     lo, hi = model.bounds()
     start[column] = float(np.clip(score.phi, lo[column], hi[column]))
     rf = _refit_result(score, model, _fit_continued(model, start, active, rows), column, base_chi2)
-    rf.starts.append(("linearised estimate", rf.fit.chi2))
+    rf.starts.append(("its linearised estimate", rf.fit.chi2))
     return rf
 
 

@@ -163,7 +163,7 @@ def test_a_refit_in_a_local_minimum_is_found_lower_from_a_further_start():
     assert abs(best.phi - 0.45) < 1e-4 and best.fit.chi2 < 1e-8
     base_chi2 = 100.0 ** 2 * 0.45 ** 2 + 9.0 * 0.45 ** 2  # phi at its zero, a at 2
     assert np.isclose(best.dchi2, -base_chi2, rtol=1e-6)
-    assert [label for label, _ in best.starts] == ["linearised estimate", "0.5 x its first value",
+    assert [label for label, _ in best.starts] == ["its linearised estimate", "0.5 x its first value",
                                                    "1.5 x its first value"]
     assert selection.several_minima(best)
 
