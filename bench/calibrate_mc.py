@@ -610,7 +610,7 @@ def table(results: list[dict]) -> str:
              "check. " + _after_trace_effect()
              + " (The exchange check's margin, a swap must lower BIC by over 1, came after a first run in which "
              "`time_two` swapped the delay on the command for the same delay on the spool, at dBIC -0.0, in 4 "
-             "seeds; those 4 seeds were rerun with it.) " + _scaled_fit() + " " + _restarts(),
+             "seeds; those 4 seeds were rerun with it.) " + " ".join(p for p in (_scaled_fit(), _restarts()) if p),
              ""] + case_rows(results) + [""] + rec_misses(results)
     lines += ["", "Per-seed records: bench/records/results.jsonl. Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
@@ -998,25 +998,27 @@ def _scaled_fit() -> str:
             f"{moved} seeds ({alike} of them only between places reported ambiguous with each other)"
             + ("; " + ", ".join(changes) if changes else ", and no column's count changed") + ". ") if seeds else
             "(Their records from before it were not committed and are gone: no seed-by-seed comparison.) ")
-            + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else ""))
+            + (("Still from before it (not rerun): " + ", ".join(older) + ".") if older else "")).strip()
 
 
 def _restarts() -> str:
     """What the further starts of the refits near the best (session 13) did in the records made with them:
     seeds where one lowered a refit's chi^2 by over 1, and seeds where that changed a round's best by BIC."""
-    seeds, lowered, reranked = 0, {}, {}
+    seeds, lowered, reranked, tied, alike = 0, {}, {}, {}, 0
     for path in sorted(RECORDS.glob("results*.jsonl")):
         for r in _records(path):
             if r.get("fit") != "restarts" or "error" in r:
                 continue
             seeds += 1
             name = _row_name(path, r["case"])
-            rounds = [rnd.get("refits") or [] for rnd in r["rounds"]]
-            if any(f["dbic_first_start"] - f["dbic"] > 1.0 for refits in rounds for f in refits):
+            if any(f["dbic_first_start"] - f["dbic"] > 1.0 for rnd in r["rounds"] for f in rnd.get("refits") or []):
                 lowered[name] = lowered.get(name, 0) + 1
-            if any(min(refits, key=lambda f: f["dbic_first_start"])["key"] != min(refits, key=lambda f: f["dbic"])["key"]
-                   for refits in rounds if refits):
+            changes = [c for c in map(_rerank, r["rounds"]) if c is not None]
+            if any(margin > 1.0 for margin, _ in changes):
                 reranked[name] = reranked.get(name, 0) + 1
+            elif changes:
+                tied[name] = tied.get(name, 0) + 1
+                alike += all(ambiguous for _, ambiguous in changes)
     if not seeds:
         return ""
 
@@ -1029,8 +1031,24 @@ def _restarts() -> str:
             "Every refit that passes the fit tests within 30 in BIC of the best is now tried from two more starts "
             "(the candidate's parameter at 0.5 and 1.5 of its first value, the rest where the first ended; "
             f"blocks/calibrate/selection.py) and the lowest chi^2 counts. In the {seeds} seeds recorded with it, "
-            f"a further start lowered a refit's chi^2 by over 1 in {listed(lowered)}, and changed a round's best "
-            f"by BIC in {listed(reranked)}.")
+            f"a further start lowered a refit's chi^2 by over 1 in {listed(lowered)}; it changed a round's best "
+            f"by BIC by over 1 in {listed(reranked)}, and by 1 or less in {listed(tied)}"
+            + (f", {alike} of them between places the round reports ambiguous with each other" if tied else "")
+            + ".")
+
+
+def _rerank(rnd: dict) -> tuple[float, bool] | None:
+    """None if a round's best by BIC is the same from the first starts alone as from all; else by how much
+    the new best beats the old best's first-start dBIC, and whether the round reports the two ambiguous."""
+    refits = rnd.get("refits") or []
+    if not refits:
+        return None
+    old = min(refits, key=lambda f: f["dbic_first_start"])
+    new = min(refits, key=lambda f: f["dbic"])
+    if old["key"] == new["key"]:
+        return None
+    keys = {old["key"], new["key"]}
+    return old["dbic_first_start"] - new["dbic"], bool(keys & set(rnd["ambiguous"])) and rnd["accepted"] in keys
 
 
 def _after_trace_effect() -> str:
