@@ -135,17 +135,20 @@ def restarted(rf: Refit) -> Refit:
     zero + f * (phi - zero), clipped into its bounds): the refit with the lowest chi^2, every start listed."""
     zero = rf.score.place.zero
     lo, hi = rf.model.bounds()
-    best, evaluations = rf, rf.fit.nfev
+    best, evaluations, starts, tried = rf, rf.fit.nfev, list(rf.starts), {rf.phi}
     for factor in RESTART_FACTORS:
         start = rf.fit.x.copy()
         start[rf.column] = float(np.clip(zero + factor * (rf.phi - zero), lo[rf.column], hi[rf.column]))
+        if start[rf.column] in tried:  # clipped back onto a start already tried (phi at a bound)
+            continue
+        tried.add(start[rf.column])
         f = _fit_continued(rf.model, start, rf.fit.active, rf.fit.rows)
         evaluations += f.nfev
-        rf.starts.append((f"{factor:g} x its first value", f.chi2))
+        starts.append((f"{factor:g} x its first value", f.chi2))
         if f.chi2 < best.fit.chi2:
             best = _refit_result(rf.score, rf.model, f, rf.column, rf.base_chi2)
-    best.starts = rf.starts
-    best.fit.nfev = evaluations
+    best.starts = starts
+    best.fit.nfev = evaluations  # over every start; ``converged`` is the lowest one's
     return best
 
 
@@ -164,8 +167,9 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
         model, x0, column = candidate_model(s)
         refits.append(refit(model, x0, column, _aligned(base_fit, base_model, model), s))
     refits.sort(key=lambda r: r.dbic)
-    if refits:
-        lead = refits[0].dbic
+    passing = [rf.dbic for rf in refits if rf.passes_fit_tests]
+    if passing:  # the window is measured from the best refit that passes (a failing one may lead by far)
+        lead = min(passing)
         refits = [restarted(rf) if rf.passes_fit_tests and rf.dbic - lead < RESTART_WITHIN else rf for rf in refits]
         refits.sort(key=lambda r: r.dbic)
     base_ho = None
