@@ -1039,7 +1039,8 @@ def _restarts() -> str:
 
 def _rerank(rnd: dict) -> tuple[float, bool] | None:
     """None if a round's best by BIC is the same from the first starts alone as from all; else by how much
-    the new best beats the old best's first-start dBIC, and whether the round reports the two ambiguous."""
+    the new best beats the old best (both after their further starts), and whether the round reports one of
+    the two ambiguous with the other."""
     refits = rnd.get("refits") or []
     if not refits:
         return None
@@ -1047,8 +1048,7 @@ def _rerank(rnd: dict) -> tuple[float, bool] | None:
     new = min(refits, key=lambda f: f["dbic"])
     if old["key"] == new["key"]:
         return None
-    keys = {old["key"], new["key"]}
-    return old["dbic_first_start"] - new["dbic"], bool(keys & set(rnd["ambiguous"])) and rnd["accepted"] in keys
+    return old["dbic"] - new["dbic"], bool({old["key"], new["key"]} & set(rnd["ambiguous"]))
 
 
 def _after_trace_effect() -> str:
@@ -1156,21 +1156,33 @@ def sized_otherwise(case: str, values: dict[str, float], records: list[dict]) ->
 
 
 def would_lose(committed: str) -> list[str]:
-    """The rows of the committed table that a table written from the records now present would not have:
-    each section of ``committed`` names its records file (its 'Records:' line) and each row its case. A
-    table is written only when this is empty, so a checkout without some records (or a run of one case)
-    never replaces a section's measured rows by nothing."""
-    lost, cases = [], []
+    """What of the committed table a table written from the records now present would not have: each section
+    of ``committed`` names its records file (its 'Records:' line), each row its case and its seeds, and a
+    section that quotes what the held-out criterion asks of the right model needs bench/heldout_expected.py's
+    file. A table is written only when this is empty, so a checkout without some records, or a run cut short
+    (one seed of every case), never replaces a section's measured rows by fewer."""
+    lost, rows, quotes = [], [], False
+    seeds_column = None
     for line in committed.splitlines():
-        if line.startswith("| ") and not line.startswith(("| case ", "|---")):
-            cases.append(line.split("|")[1].strip())
+        cells = [c.strip() for c in line.split("|")[1:-1]]
+        if line.startswith("| case "):
+            seeds_column = cells.index("seeds")
+        elif line.startswith("| ") and not line.startswith("|---") and seeds_column is not None:
+            rows.append((cells[0], int(cells[seeds_column])))
+        quotes = quotes or "What the held-out criterion asks of the right model" in line
         found = re.search(r"[Rr]ecords: \S*?(results\w*\.jsonl)", line)
         if found:
-            have = {r["case"] for r in _records(RECORDS / found[1])} if (RECORDS / found[1]).exists() else set()
-            missing = [c for c in cases if c not in have]
-            if missing:
-                lost.append(f"{found[1]}: {', '.join(missing)}")
-            cases = []
+            path = RECORDS / found[1]
+            have: dict[str, int] = {}
+            for r in _records(path) if path.exists() else []:
+                have[r["case"]] = have.get(r["case"], 0) + ("error" not in r)
+            short = [f"{case} ({have.get(case, 0)} of {n} seeds)" for case, n in rows if have.get(case, 0) < n]
+            if short:
+                lost.append(f"{found[1]}: {', '.join(short)}")
+            expected = RECORDS / f"heldout_expected_{path.stem}.json"
+            if quotes and not expected.exists():
+                lost.append(f"{expected.name} (run bench/heldout_expected.py)")
+            rows, quotes = [], False
     return lost
 
 
@@ -1274,7 +1286,7 @@ def main(argv=None) -> int:
             summary = result.get("error") or (f"accepted {result['accepted']}, chi2/nu {result['chi2nu_after']:.3g}, "
                                               f"held-out ratio {result['heldout_ratio']}, {result['seconds']:.0f} s")
             print(f"{result['case']} seed {result['seed']}: {summary}", flush=True)
-    write_table()
+    write_table()  # refused when records are missing (said on stderr): the run's records stand, so exit 0
     return 0
 
 

@@ -18,39 +18,54 @@ def _bench():
 
 
 COMMITTED = """# table
-| case | planted | pass |
-|---|---|---|
-| steady_none | none | PASS |
-| steady_two | two | FAIL |
+| case | planted | lambda | seeds | pass |
+|---|---|---|---|---|
+| steady_none | none | - | 2 | PASS |
+| steady_two | two | 106 | 1 | FAIL |
 
 Per-seed records: bench/records/results.jsonl. Rerun: ...
 
 ## MCV
-| case | planted | pass |
-|---|---|---|
-| mcv_none | none | PASS |
+
+What the held-out criterion asks of the right model: ...
+
+| case | planted | lambda | seeds | pass |
+|---|---|---|---|---|
+| mcv_none | none | - | 1 | PASS |
 
 Records: out/calibrate_mc/results_mcv.jsonl. Rerun: ...
 """
 
 
 def _write(path: Path, cases):
-    path.write_text("".join(json.dumps({"case": c, "seed": 1}) + "\n" for c in cases))
+    path.write_text("".join(json.dumps({"case": c, "seed": k}) + "\n" for k, c in enumerate(cases)))
 
 
-def test_nothing_lost_when_every_row_has_records(tmp_path, monkeypatch):
+def test_nothing_lost_when_every_row_has_its_seeds(tmp_path, monkeypatch):
     mc = _bench()
     monkeypatch.setattr(mc, "RECORDS", tmp_path)
-    _write(tmp_path / "results.jsonl", ["steady_none", "steady_two"])
+    _write(tmp_path / "results.jsonl", ["steady_none", "steady_none", "steady_two"])
     _write(tmp_path / "results_mcv.jsonl", ["mcv_none"])
+    (tmp_path / "heldout_expected_results_mcv.json").write_text("[]")
     assert mc.would_lose(COMMITTED) == []
 
 
-def test_a_missing_file_and_a_missing_case_are_named(tmp_path, monkeypatch):
+def test_a_missing_file_a_missing_case_fewer_seeds_and_the_heldout_file_are_named(tmp_path, monkeypatch):
     mc = _bench()
     monkeypatch.setattr(mc, "RECORDS", tmp_path)
     _write(tmp_path / "results.jsonl", ["steady_none"])
-    assert mc.would_lose(COMMITTED) == ["results.jsonl: steady_two", "results_mcv.jsonl: mcv_none"]
+    assert mc.would_lose(COMMITTED) == ["results.jsonl: steady_none (1 of 2 seeds), steady_two (0 of 1 seeds)",
+                                        "results_mcv.jsonl: mcv_none (0 of 1 seeds)",
+                                        "heldout_expected_results_mcv.json (run bench/heldout_expected.py)"]
+
+
+def test_a_seed_that_failed_does_not_count(tmp_path, monkeypatch):
+    mc = _bench()
+    monkeypatch.setattr(mc, "RECORDS", tmp_path)
+    (tmp_path / "results.jsonl").write_text(
+        "".join(json.dumps(r) + "\n" for r in ({"case": "steady_none", "seed": 1}, {"case": "steady_two", "seed": 1},
+                                               {"case": "steady_none", "seed": 2, "error": "ValueError: x"})))
+    assert mc.would_lose(COMMITTED)[0] == "results.jsonl: steady_none (1 of 2 seeds)"
 
 
 def test_the_table_is_left_untouched(tmp_path, monkeypatch):
