@@ -1196,8 +1196,8 @@ def write_table() -> bool:
     if lost:
         partial = OUT / "table_partial.md"
         atomic_write_text(partial, table(results))
-        print(f"not writing {TABLE}: its rows of " + "; ".join(lost) + f" have no records in {RECORDS}; the "
-              f"table of the records there is in {partial}", file=sys.stderr)
+        print(f"not writing {TABLE}: {RECORDS} lacks what it shows: " + "; ".join(lost) + f"; the table of "
+              f"the records there is in {partial}", file=sys.stderr)
         return False
     atomic_write_text(TABLE, table(results))
     print(f"wrote {TABLE}")
