@@ -1052,7 +1052,8 @@ def _restarts() -> str:
 
     return ("Session 13: a candidate's refit from one start (its linearised estimate) can end in a local "
             "minimum; on the MCV's real data a p1 sensor gain ended at chi^2 603.8, from 1.5 times its value at 589.0. "
-            "Every refit that passes the fit tests within 30 in BIC of the best is now tried from two more starts "
+            "Every refit that passes the fit tests within 30 in BIC of the best one that passes is now tried from two "
+            "more starts "
             "(the candidate's parameter at 0.5 and 1.5 of its first value, the rest where the first ended; "
             f"blocks/calibrate/selection.py) and the lowest chi^2 counts. In the {seeds} seeds recorded with it, "
             f"a further start lowered a refit's chi^2 by over 1 in {listed(lowered)}; it changed a round's best "
