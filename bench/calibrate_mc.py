@@ -1199,7 +1199,7 @@ def would_lose(committed: str) -> list[str]:
         if found:
             path = RECORDS / found[1]
             have: dict[str, int] = {}
-            for r in _records(path) if path.exists() else []:
+            for r in _records(path):
                 have[r["case"]] = have.get(r["case"], 0) + ("error" not in r)
             short = [f"{case} ({have.get(case, 0)} of {n} seeds)" for case, n in rows if have.get(case, 0) < n]
             if short:
@@ -1216,7 +1216,7 @@ def write_table() -> bool:
     from blocks.result import atomic_write_text
 
     main = RECORDS / "results.jsonl"  # the main table's, whatever --flows this run had
-    results = [json.loads(line) for line in main.read_text().splitlines() if line.strip()] if main.exists() else []
+    results = _records(main)
     lost = would_lose(TABLE.read_text()) if TABLE.exists() else []
     if lost:
         partial = OUT / "table_partial.md"

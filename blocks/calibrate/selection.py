@@ -33,7 +33,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from blocks.calibrate.fit import FitResult, fit
+from blocks.calibrate.fit import FitResult, fit, points_of
 from blocks.calibrate.heldout import HeldOut, heldout
 from blocks.calibrate.model import Model
 from blocks.calibrate.screening import Score
@@ -98,8 +98,6 @@ def candidates_to_refit(scores: list[Score], top: int) -> list[Score]:
 def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Score) -> Refit:
     """Fit ``model`` (the current model plus the candidate at entry ``column`` of x) from x0, where x0 has
     the candidate at its zero; the base chi^2 is the same model's at x0."""
-    from blocks.calibrate.fit import points_of
-
     rows = base.rows
     base_chi2 = float(np.sum(model.residuals(x0, points_of(model, rows))[rows] ** 2))
     active = base.active.copy()
