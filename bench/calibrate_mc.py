@@ -610,7 +610,8 @@ def table(results: list[dict]) -> str:
              "check. " + _after_trace_effect()
              + " (The exchange check's margin, a swap must lower BIC by over 1, came after a first run in which "
              "`time_two` swapped the delay on the command for the same delay on the spool, at dBIC -0.0, in 4 "
-             "seeds; those 4 seeds were rerun with it.) " + " ".join(p for p in (_scaled_fit(), _restarts()) if p),
+             "seeds; those 4 seeds were rerun with it.) "
+             + " ".join(p for p in (_scaled_fit(), _restarts(), _stuck_refits()) if p),
              ""] + case_rows(results) + [""] + rec_misses(results)
     lines += ["", "Per-seed records: bench/records/results.jsonl. Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
@@ -634,8 +635,8 @@ def table(results: list[dict]) -> str:
         "find it. The held-out reference is the truth model predicting from the same information: its "
         "command the spline that the recording alone gives (knots at samples, as the tool starts them; "
         "a held-out block's knots start there too). The median held-out ratio against the truth model "
-        "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". A seed takes 1 to 5 "
-        "minutes here. " + _recorded_sizes(rows) + " A transport delay on the command shorter than a sample "
+        "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". A seed takes " + _span(
+            r["seconds"] for r in rows if "error" not in r) + " s here. " + _recorded_sizes(rows) + " A transport delay on the command shorter than a sample "
         "interval is another matter: the knots' times take it whole (`time_delay`'s 0.23 ms: lambda 108 with the "
         "levels, 0.1 with the recording: `python bench/recorded_lambda.py transport_delay@u 0.000227`), so that "
         "case is not run here. "
@@ -736,21 +737,30 @@ def case_rows(results: list[dict]) -> list[str]:
 
 
 def _recorded_sizes(rows: list[dict]) -> str:
-    """How the recorded-command rows are sized: by their lambda with the recording, and what the same sizes
-    give with the command's levels (from the records)."""
-    sized = {}
-    for r in rows:
-        if "error" not in r and r.get("lambda_levels"):
-            sized.setdefault(r["case"], r)
+    """How the recorded-command rows are sized: from their size by the command's levels (the first table's, and
+    its lambda with the levels) to their size by their lambda with the recording (from the records)."""
+    firsts = {c.name: next((r for r in rows if r["case"] == c.name and "error" not in r and r.get("lambda_levels")),
+                           None) for c in CASES}
+    sized = {case: r for case, r in firsts.items() if r is not None}  # every seed of a case has its sizes
     if not sized:
         return "The rows are sized by the command's levels."
+    by_levels = {r["case"]: r["planted"] for r in _records(RECORDS / "results.jsonl") if "error" not in r}
+
+    def resized(case: str, r: dict) -> str:
+        parts = []
+        for key, value in r["planted"].items():
+            first = by_levels.get(case, {}).get(key)
+            start = f"{first:.3g}" if first is not None else "its size"
+            parts.append(f"`{case}` {start} (lambda {r['lambda_levels'][key]:.0f} with the levels) "
+                         + ("kept" if first is not None and np.isclose(first, value, rtol=1e-9) else f"-> {value:.3g}")
+                         + f" (lambda {r['lambda'][key]:.0f} with the recording)")
+        return ", ".join(parts)
+
     return ("Each planted effect is sized by its lambda with the recording (`Setup.lam`, recorded: the declared "
             "model, its knots chosen from the noise-free recording and fitted with its parameters to the truth; "
             "the lower chi^2 from two starts, the truth's values and the tool's own), scaled on from its size by "
-            "the command's levels, since the knots absorb part of some effects. The same sizes with the command's "
-            "levels: " + ", ".join(f"`{case}` lambda " + ", ".join(f"{v:.0f}" for v in r["lambda_levels"].values())
-                                   + " (with the recording " + ", ".join(f"{v:.0f}" for v in r["lambda"].values())
-                                   + ")" for case, r in sized.items())
+            "the command's levels (the first table's), since the knots absorb part of some effects; kept when "
+            "its lambda with the recording is already 100 to 115: " + ", ".join(resized(c, r) for c, r in sized.items())
             + ". The off-library torque pulse loses the most to the knots: at its size by the levels (0.64, "
             "session 10's rows) its lambda with the recording was 43.3 (`python bench/recorded_lambda.py "
             "offlib_torque_pulse 0.6404`)." + _not_resized(rows))
@@ -880,9 +890,14 @@ def _refused(rows: list[dict]) -> tuple[list[dict], list[dict], list[dict]]:
     return missed, refits, [rf for rf in refits if any("held-out" in reason for reason in rf["reasons"])]
 
 
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}{'s' * (n != 1)}"
+
+
 def _span(values) -> str:
-    values = sorted(values)
-    return f"{values[0]:.3g}" if len(values) == 1 else f"{values[0]:.3g} to {values[-1]:.3g}"
+    values = list(values)
+    low, high = (f"{v:.3g}" for v in (min(values), max(values)))
+    return low if low == high else f"{low} to {high}"
 
 
 def _median_of(rows: list[dict], key: str) -> str:
@@ -1028,7 +1043,7 @@ def _scaled_fit() -> str:
 def _restarts() -> str:
     """What the further starts of the refits near the best (session 13) did in the records made with them:
     seeds where one lowered a refit's chi^2 by over 1, and seeds where that changed a round's best by BIC."""
-    seeds, lowered, reranked, tied, alike = 0, {}, {}, {}, 0
+    seeds, lowered, reranked, tied, alike, alike_reranked = 0, {}, {}, {}, 0, 0
     for path in sorted(RECORDS.glob("results*.jsonl")):
         for r in _records(path):
             if r.get("fit") != "restarts" or "error" in r:
@@ -1040,6 +1055,7 @@ def _restarts() -> str:
             changes = [c for c in map(_rerank, r["rounds"]) if c is not None]
             if any(margin > 1.0 for margin, _ in changes):
                 reranked[name] = reranked.get(name, 0) + 1
+                alike_reranked += all(ambiguous for _, ambiguous in changes)
             elif changes:
                 tied[name] = tied.get(name, 0) + 1
                 alike += all(ambiguous for _, ambiguous in changes)
@@ -1047,8 +1063,12 @@ def _restarts() -> str:
         return ""
 
     def listed(counts: dict) -> str:
-        return (f"{sum(counts.values())} seeds (" + ", ".join(f"{k} {v}" for k, v in counts.items()) + ")"
+        total = sum(counts.values())
+        return (f"{total} seed{'s' * (total > 1)} (" + ", ".join(f"{k} {v}" for k, v in counts.items()) + ")"
                 if counts else "no seed")
+
+    def among_ambiguous(counts: dict, n: int) -> str:
+        return f", {n} of them between places the round reports ambiguous with each other" if counts else ""
 
     return ("Session 13: a candidate's refit from one start (its linearised estimate) can end in a local "
             "minimum; on the MCV's real data a p1 sensor gain ended at chi^2 603.8, from 1.5 times its value at 589.0. "
@@ -1057,9 +1077,49 @@ def _restarts() -> str:
             "(the candidate's parameter at 0.5 and 1.5 of its first value, the rest where the first ended; "
             f"blocks/calibrate/selection.py) and the lowest chi^2 counts. In the {seeds} seeds recorded with it, "
             f"a further start lowered a refit's chi^2 by over 1 in {listed(lowered)}; it changed a round's best "
-            f"by BIC by over 1 in {listed(reranked)}, and by 1 or less in {listed(tied)}"
-            + (f", {alike} of them between places the round reports ambiguous with each other" if tied else "")
-            + ".")
+            f"by BIC by over 1 in {listed(reranked)}{among_ambiguous(reranked, alike_reranked)}, and by 1 or less "
+            f"in {listed(tied)}{among_ambiguous(tied, alike)}.")
+
+
+def _stuck_refits() -> str:
+    """The seeds rerun (session 14) because a refit had ended worse than its candidate at zero, against their
+    records from before (archived as s13_<file>_before_retreat.jsonl): what changed, and how the refits that
+    moved by over 1 in BIC moved."""
+    pairs, names, before_dbic, after_dbic, changes = [], [], [], [], []
+    for path in sorted(RECORDS.glob("results*.jsonl")):
+        now = {(r["case"], r["seed"]): r for r in _records(path) if "error" not in r}
+        before = [r for r in _archived(f"s13_{path.stem}_before_retreat.jsonl") if (r["case"], r["seed"]) in now]
+        for case in CASES:
+            mine = [(r, now[(r["case"], r["seed"])]) for r in before if r["case"] == case.name]
+            if not mine:
+                continue
+            name = _row_name(path, case.name)
+            names.append(f"{name} " + ", ".join(str(a["seed"]) for a, _ in mine))
+            changes += _column_changes(name, case, mine)
+            pairs += mine
+            for a, b in mine:
+                for ra, rb in zip(a["rounds"], b["rounds"]):
+                    after = {f["key"]: f["dbic"] for f in rb.get("refits") or []}
+                    for f in ra.get("refits") or []:
+                        if f["key"] in after and abs(after[f["key"]] - f["dbic"]) > 1.0:
+                            before_dbic.append(f["dbic"])
+                            after_dbic.append(after[f["key"]])
+    if not pairs:
+        return ""
+    moved = sum(sorted(a["accepted"]) != sorted(b["accepted"]) for a, b in pairs)
+    return ("Session 14: a refit from the candidate's linearised estimate could stop where it started, worse "
+            "than the candidate at its zero. Far out, the model may not run (a turbulent loss in a refill valve's "
+            "line, linearised to k = 3e19 Pa*s^2/m^6, closes the line and the solver's step falls below its "
+            "minimum: every residual holds the failure value, 1e3, and such refits were listed at dBIC 6.8e9 "
+            "with no word of why), or its outputs may no longer move with the parameter. A refit that ends over "
+            "1 in chi^2 worse than its candidate at zero is now started again 10 times nearer the zero, until it "
+            "does not, and a refit whose runs fail at its end is refused with the solver's message "
+            "(blocks/calibrate/selection.py). The seeds whose records had such a refit were rerun with it: "
+            + "; ".join(names) + ". Against their records from before it (the same " + _count(len(pairs), "seed")
+            + "; bench/records/archive/s13_*_before_retreat.jsonl) the accepted effects changed in "
+            + _count(moved, "seed") + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
+            + (f"; the {_count(len(after_dbic), 'refit')} whose dBIC moved by over 1 had dBIC "
+               f"{_span(before_dbic)} before and {_span(after_dbic)} now" if after_dbic else "") + ".")
 
 
 def _rerank(rnd: dict) -> tuple[float, bool] | None:

@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import least_squares
 
-from blocks.calibrate.model import Model
+from blocks.calibrate.model import FAILED_RESIDUAL, Model
 
 
 @dataclass
@@ -54,6 +54,18 @@ class FitResult:
     def bic(self) -> float:
         """chi^2 + p ln n: -2 log-likelihood up to a constant (known noise) plus the BIC penalty."""
         return self.chi2 + self.p * np.log(self.n)
+
+    @property
+    def failed_rows(self) -> int:
+        """Residual rows of the fit whose run failed at its end (they hold FAILED_RESIDUAL, not a misfit)."""
+        return int(np.sum(self.r[self.rows] == FAILED_RESIDUAL))
+
+    def run_failure(self) -> str:
+        """What a report says of runs that fail at the fit's end ('' if none does), the last solver message."""
+        if not self.failed_rows:
+            return ""
+        return (f"the model does not run at the fit's end ({self.failed_rows} of {self.n} rows failed"
+                + (f": {self.failures[-1]}" if self.failures else "") + ")")
 
 
 def points_of(model: Model, rows: np.ndarray):

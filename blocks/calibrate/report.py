@@ -10,7 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
-from blocks.calibrate.selection import several_minima
+from blocks.calibrate.selection import LINEARISED, several_minima
 from blocks.result import atomic_write_figure, atomic_write_text
 from blocks.units import UnitError, display_factor
 
@@ -308,6 +308,10 @@ def markdown(cal, info: dict) -> str:
             L += ["", "Refits whose starts ended at different chi^2 (several minima; the lowest counts above):"]
             L += [f"- {f['key']}: " + ", ".join(f"from {s['start']} {_g(s['chi2'], 5)}" for s in f["starts"])
                   for f in several]
+        moved = [f for f in r["refits"] if f["starts"] and f["starts"][0]["start"] != LINEARISED]
+        if moved:
+            L += ["", "Refits started nearer the candidate's zero than its linearised estimate:"]
+            L += [f"- {f['key']}: from {f['starts'][0]['start']}" for f in moved]
         if r["ambiguous"]:
             L += ["", "Ambiguous: " + ", ".join(r["ambiguous"])] + [f"- {s}" for s in r["separation"]]
             L += [f"- what the choice changes: {s}" for s in r["choice_moves"]]

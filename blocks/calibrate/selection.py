@@ -3,9 +3,10 @@ BIC, accept at most one, and say when the data cannot tell candidates apart.
 
 Refit: in the candidate's own netlist (the current one with this one patch: what would be written as the
 augmented netlist), the candidate's parameter freed beside the current free parameters, warm-started at the
-fit with the candidate at its linearised estimate (clipped into its bounds), same residual rows; one that
-stops at its evaluation limit is continued once from where it stopped, and the report marks one that
-stopped again (its dBIC is then an upper bound).
+fit with the candidate at its linearised estimate (clipped into its bounds; moved nearer its zero while the
+refit from there ends worse than the candidate at its zero: _first_fit), same residual rows; one that stops at
+its evaluation limit is continued once from where it stopped, and the report marks one that stopped again (its
+dBIC is then an upper bound). A refit whose runs fail at its end is refused with the solver's message.
     dBIC = chi^2_new - chi^2_current + ln(n)      (one parameter more; known noise)
 More starts: a refit from one start can end in a local minimum (the chi^2 of a circuit with unstable equilibria
 at some parameters has several: on the MCV's real data a p1 sensor gain refitted from its linearised estimate
@@ -46,6 +47,10 @@ REFIT_EVALUATIONS = 40  # per attempt; a refit that stops at this limit gets one
 RESTART_WITHIN = 3 * AMBIGUOUS_DBIC  # refits this close to the best in BIC are tried from more starts (the
 # real data's p1 gain gained 15; one farther behind would need over 20 to come within the ambiguity margin)
 RESTART_FACTORS = (0.5, 1.5)  # the candidate's parameter, relative to its zero, at the further starts
+LINEARISED = "its linearised estimate"  # the first start's label, unless it was moved
+WORSE_THAN_ZERO = 1.0  # a refit ending this much worse in chi^2 than the candidate at its zero is stuck:
+START_RETREAT = 10.0  # its start is moved this many times nearer the candidate's zero,
+START_RETREATS = 6  # at most this often
 
 
 def z_score(phi: float, zero: float, se: float) -> float:
@@ -105,9 +110,36 @@ def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Sco
     start = x0.copy()
     lo, hi = model.bounds()
     start[column] = float(np.clip(score.phi, lo[column], hi[column]))
-    rf = _refit_result(score, model, _fit_continued(model, start, active, rows), column, base_chi2)
-    rf.starts.append(("its linearised estimate", rf.fit.chi2))
+    f, retreats = _first_fit(model, start, column, score.place.zero, active, rows, base_chi2)
+    rf = _refit_result(score, model, f, column, base_chi2)
+    rf.starts.append((LINEARISED if not retreats else
+                      f"{LINEARISED} moved {START_RETREAT ** retreats:g} times nearer its zero (from farther out "
+                      "the refit ended worse than the candidate at its zero)", rf.fit.chi2))
     return rf
+
+
+def _first_fit(model: Model, start: np.ndarray, column: int, zero: float, active: np.ndarray, rows: np.ndarray,
+               base_chi2: float) -> tuple[FitResult, int]:
+    """The fit from ``start`` (the linearised estimate); if it ends worse than the candidate at its zero (by
+    over WORSE_THAN_ZERO in chi^2: the fit is stuck, since from the zero it could only go down), again from
+    the candidate's entry START_RETREAT times nearer its zero, up to START_RETREATS times, until a fit does
+    not. The lowest chi^2 counts; returned with how often its start was moved. A linearised estimate far
+    beyond the linear range can lie where the model does not run (a turbulent loss in a refill valve's line,
+    linearised to k = 3e19 Pa*s^2/m^6, closes the line and the solver's step falls below its minimum: every
+    residual holds the failure value, there is no slope to follow, and the fit stops where it started) or
+    where the outputs no longer move with it."""
+    best, moved = _fit_continued(model, start, active, rows), 0
+    evaluations, x = best.nfev, start.copy()
+    for retreats in range(1, START_RETREATS + 1):
+        if best.chi2 - base_chi2 <= WORSE_THAN_ZERO:
+            break
+        x[column] = zero + (x[column] - zero) / START_RETREAT
+        f = _fit_continued(model, x, active, rows)
+        evaluations += f.nfev
+        if f.chi2 < best.chi2:
+            best, moved = f, retreats
+    best.nfev = evaluations
+    return best, moved
 
 
 def _fit_continued(model: Model, start: np.ndarray, active: np.ndarray, rows: np.ndarray) -> FitResult:
@@ -174,6 +206,8 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
     base_ho = None
     accepted = None
     for rf in refits:
+        if rf.fit.run_failure():  # first: the other reasons then judge a misfit that is not one
+            rf.reasons.append(rf.fit.run_failure())
         if not rf.z > Z_MIN:
             rf.reasons.append(f"|phi| = {rf.z:.2g} SE (needs > {Z_MIN:g})")
         if not rf.plausible:

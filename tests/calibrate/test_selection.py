@@ -9,6 +9,7 @@ from types import SimpleNamespace
 import numpy as np
 
 from blocks.calibrate import selection
+from blocks.calibrate.model import FAILED_RESIDUAL
 from blocks.calibrate.screening import Score
 
 
@@ -69,7 +70,7 @@ def test_a_refit_cut_short_is_continued_once_from_where_it_stopped(monkeypatch):
                          np.array([0.1, 0.1]), max_nfev - 5 * done, "", 0, [], converged=done)
 
     monkeypatch.setattr(selection, "fit", fake_fit)
-    place = SimpleNamespace(key="k", plausible=(-10.0, 10.0))
+    place = SimpleNamespace(key="k", zero=0.0, plausible=(-10.0, 10.0))
     score = Score(place, "screened", phi=0.5)
     base = SimpleNamespace(rows=np.ones(3, dtype=bool), active=np.array([True, False]))
     for attempts, evaluations in ((2, 75), (1, 35)):
@@ -177,7 +178,8 @@ def test_only_refits_that_pass_and_lie_near_the_best_are_tried_from_more_starts(
 
     def fake_refit(model, x0, column, base, score):
         key = score.place.key
-        return selection.Refit(score, None, None, z[key], 1.0, first[key] - 5.0, first[key], True)
+        fitted = SimpleNamespace(run_failure=lambda: "")
+        return selection.Refit(score, None, fitted, z[key], 1.0, first[key] - 5.0, first[key], True)
 
     def fake_restarted(rf):
         tried.append(rf.score.place.key)
@@ -195,3 +197,86 @@ def test_only_refits_that_pass_and_lie_near_the_best_are_tried_from_more_starts(
     assert sorted(tried) == ["a", "b"]
     assert [rf.score.place.key for rf in decision.refits] == ["e", "a", "b", "d", "c"]
     assert decision.accepted.score.place.key == "a"
+
+
+class _ClosedLine:
+    """A candidate that stops the model from running beyond phi = 2 (a turbulent loss so large that it closes
+    a line and the solver's step falls below its minimum): every row then holds the failure value. Below it
+    r = [10 (phi - 1.5), a - 2], whose minimum is phi = 1.5, a = 2 (chi^2 0)."""
+
+    n_rows = 2
+    data = SimpleNamespace(kind="time")
+
+    def __init__(self):
+        self.failures = []
+
+    def residuals(self, x, points=None):
+        a, phi = x
+        if phi > 2.0:
+            self.failures.append("the solver failed at t = 0.24 s: the step size fell below its minimum")
+            return np.full(2, FAILED_RESIDUAL)
+        return np.array([10.0 * (phi - 1.5), a - 2.0])
+
+    def jacobian(self, x, cols, points, r0):
+        J = np.zeros((2, 2)) if x[1] > 2.0 else np.array([[0.0, 10.0], [1.0, 0.0]])
+        return J[:, cols]
+
+    def bounds(self):
+        return np.array([-10.0, 0.0]), np.array([10.0, 1e3])
+
+    def steps(self):
+        return np.array([1e-6, 1e-6])
+
+
+def _closed_line_refit():
+    place = SimpleNamespace(key="line_loss_turbulent@refill_B.b", zero=0.0, plausible=(0.0, 5.0), unit="-")
+    base = SimpleNamespace(rows=np.ones(2, dtype=bool), active=np.array([True, False]))
+    return selection.refit(_ClosedLine(), np.array([2.0, 0.0]), 1, base, Score(place, "screened", T=50.0, phi=30.0))
+
+
+def test_a_refit_from_where_the_model_does_not_run_is_started_again_nearer_the_candidates_zero():
+    """Linearised to 30, where the model does not run: the fit stays there (chi^2 2e6, worse than 225 with the
+    candidate at its zero), and so does the one from 3; from 0.3 it ends at the minimum 1.5 with chi^2 0, its
+    start labelled as moved."""
+    rf = _closed_line_refit()
+    assert abs(rf.phi - 1.5) < 1e-6 and rf.fit.chi2 < 1e-10 and rf.fit.failed_rows == 0
+    assert np.isclose(rf.dchi2, -225.0)
+    assert rf.starts[0][0] == ("its linearised estimate moved 100 times nearer its zero (from farther out the refit "
+                               "ended worse than the candidate at its zero)")
+
+
+class _Saturating(_ClosedLine):
+    """The model runs everywhere, but beyond phi = 5 its output no longer moves: r = [10 (min(phi, 5) - 1.5),
+    a - 2]. From the linearised 30 the fit has no slope (chi^2 1225, worse than 225 at zero)."""
+
+    def residuals(self, x, points=None):
+        a, phi = x
+        return np.array([10.0 * (min(phi, 5.0) - 1.5), a - 2.0])
+
+    def jacobian(self, x, cols, points, r0):
+        return np.array([[0.0, 0.0 if x[1] > 5.0 else 10.0], [1.0, 0.0]])[:, cols]
+
+
+def test_a_refit_stuck_where_the_outputs_no_longer_move_is_started_again_nearer_the_candidates_zero(monkeypatch):
+    place = SimpleNamespace(key="line_loss_turbulent@relief_A.a", zero=0.0, plausible=(0.0, 5.0), unit="-")
+    base = SimpleNamespace(rows=np.ones(2, dtype=bool), active=np.array([True, False]))
+    score = Score(place, "screened", T=50.0, phi=30.0)
+    rf = selection.refit(_Saturating(), np.array([2.0, 0.0]), 1, base, score)
+    assert abs(rf.phi - 1.5) < 1e-6 and rf.starts[0][0].startswith("its linearised estimate moved 10 times")
+    monkeypatch.setattr(selection, "START_RETREATS", 0)
+    stuck = selection.refit(_Saturating(), np.array([2.0, 0.0]), 1, base, score)
+    assert stuck.phi == 30.0 and np.isclose(stuck.dchi2, 1225.0 - 225.0)
+
+
+def test_a_refit_whose_runs_fail_at_its_end_says_so_before_its_other_reasons(monkeypatch):
+    """Without the retreat the refit stays where it started (no slope where every row failed), with chi^2 =
+    2 rows x FAILED_RESIDUAL^2; the decision names the failure first, not only a dBIC of 2e6."""
+    monkeypatch.setattr(selection, "START_RETREATS", 0)
+    rf = _closed_line_refit()
+    assert rf.phi == 30.0 and rf.fit.chi2 == 2 * FAILED_RESIDUAL ** 2 and rf.fit.failed_rows == 2
+    monkeypatch.setattr(selection, "refit", lambda model, x0, column, base, score: rf)
+    monkeypatch.setattr(selection, "_aligned", lambda base, base_model, model: base)
+    decision = selection.decide([rf.score], 1, None, None, None, lambda s: (None, None, 1), with_heldout=False)
+    assert decision.refits[0].reasons[0] == ("the model does not run at the fit's end (2 of 2 rows failed: the "
+                                             "solver failed at t = 0.24 s: the step size fell below its minimum)")
+    assert decision.accepted is None
