@@ -752,7 +752,7 @@ def _recorded_sizes(rows: list[dict]) -> str:
             first = by_levels.get(case, {}).get(key)
             start = f"{first:.3g}" if first is not None else "its size"
             parts.append(f"`{case}` {start} (lambda {r['lambda_levels'][key]:.0f} with the levels) "
-                         + ("kept" if first is not None and np.isclose(first, value, rtol=1e-9) else f"-> {value:.3g}")
+                         + ("kept" if first is not None and np.isclose(first, value, rtol=1e-9, atol=0.0) else f"-> {value:.3g}")
                          + f" (lambda {r['lambda'][key]:.0f} with the recording)")
         return ", ".join(parts)
 
@@ -896,6 +896,8 @@ def _count(n: int, noun: str) -> str:
 
 def _span(values) -> str:
     values = list(values)
+    if not values:
+        return "-"
     low, high = (f"{v:.3g}" for v in (min(values), max(values)))
     return low if low == high else f"{low} to {high}"
 
@@ -1055,7 +1057,7 @@ def _restarts() -> str:
             changes = [c for c in map(_rerank, r["rounds"]) if c is not None]
             if any(margin > 1.0 for margin, _ in changes):
                 reranked[name] = reranked.get(name, 0) + 1
-                alike_reranked += all(ambiguous for _, ambiguous in changes)
+                alike_reranked += all(ambiguous for margin, ambiguous in changes if margin > 1.0)
             elif changes:
                 tied[name] = tied.get(name, 0) + 1
                 alike += all(ambiguous for _, ambiguous in changes)
@@ -1113,7 +1115,8 @@ def _stuck_refits() -> str:
             "minimum: every residual holds the failure value, 1e3, and such refits were listed at dBIC 6.8e9 "
             "with no word of why), or its outputs may no longer move with the parameter. A refit that ends over "
             "1 in chi^2 worse than its candidate at zero is now started again 10 times nearer the zero, until it "
-            "does not, and a refit whose runs fail at its end is refused with the solver's message "
+            "does not (at most 6 times), and a refit with runs failing at its end that do not fail with the "
+            "candidate at zero is refused, saying so "
             "(blocks/calibrate/selection.py). The seeds whose records had such a refit were rerun with it: "
             + "; ".join(names) + ". Against their records from before it (the same " + _count(len(pairs), "seed")
             + "; bench/records/archive/s13_*_before_retreat.jsonl) the accepted effects changed in "

@@ -60,12 +60,14 @@ class FitResult:
         """Residual rows of the fit whose run failed at its end (they hold FAILED_RESIDUAL, not a misfit)."""
         return int(np.sum(self.r[self.rows] == FAILED_RESIDUAL))
 
-    def run_failure(self) -> str:
-        """What a report says of runs that fail at the fit's end ('' if none does), the last solver message."""
-        if not self.failed_rows:
+    def run_failure(self, beyond: int = 0) -> str:
+        """What a report says when more rows than ``beyond`` (those that fail already without the change being
+        judged) hold the failure value at the fit's end; '' otherwise."""
+        if self.failed_rows <= beyond:
             return ""
         return (f"the model does not run at the fit's end ({self.failed_rows} of {self.n} rows failed"
-                + (f": {self.failures[-1]}" if self.failures else "") + ")")
+                + (f", {beyond} without it" if beyond else "")
+                + (f"; the last solver message in the fit: {self.failures[-1]}" if self.failures else "") + ")")
 
 
 def points_of(model: Model, rows: np.ndarray):

@@ -3,10 +3,11 @@ BIC, accept at most one, and say when the data cannot tell candidates apart.
 
 Refit: in the candidate's own netlist (the current one with this one patch: what would be written as the
 augmented netlist), the candidate's parameter freed beside the current free parameters, warm-started at the
-fit with the candidate at its linearised estimate (clipped into its bounds; moved nearer its zero while the
-refit from there ends worse than the candidate at its zero: _first_fit), same residual rows; one that stops at
-its evaluation limit is continued once from where it stopped, and the report marks one that stopped again (its
-dBIC is then an upper bound). A refit whose runs fail at its end is refused with the solver's message.
+fit with the candidate at its linearised estimate (clipped into its bounds; moved nearer its zero, at most
+START_RETREATS times, while the refit from there ends worse than the candidate at its zero: _first_fit), same
+residual rows; one that stops at its evaluation limit is continued once from where it stopped, and the report
+marks one that stopped again (its dBIC is then an upper bound). A refit with runs failing at its end that do not
+fail with the candidate at its zero fails the fit tests, and its reasons say so first.
     dBIC = chi^2_new - chi^2_current + ln(n)      (one parameter more; known noise)
 More starts: a refit from one start can end in a local minimum (the chi^2 of a circuit with unstable equilibria
 at some parameters has several: on the MCV's real data a p1 sensor gain refitted from its linearised estimate
@@ -36,7 +37,7 @@ import numpy as np
 
 from blocks.calibrate.fit import FitResult, fit, points_of
 from blocks.calibrate.heldout import HeldOut, heldout
-from blocks.calibrate.model import Model
+from blocks.calibrate.model import FAILED_RESIDUAL, Model
 from blocks.calibrate.screening import Score
 
 Z_MIN = 3.0
@@ -73,6 +74,7 @@ class Refit:
     reasons: list = field(default_factory=list)
     column: int = -1  # the candidate's parameter's entry in x
     base_chi2: float = float("nan")  # the same model's chi^2 with the candidate at its zero
+    base_failed_rows: int = 0  # rows whose run fails there already
     starts: list = field(default_factory=list)  # (start, chi^2 at its end) of every start tried, the first first
 
     @property
@@ -80,8 +82,13 @@ class Refit:
         return z_score(self.phi, self.score.place.zero, self.se)
 
     @property
+    def run_failure(self) -> str:
+        """'' unless runs fail at the refit's end that do not fail with the candidate at its zero."""
+        return self.fit.run_failure(self.base_failed_rows)
+
+    @property
     def passes_fit_tests(self) -> bool:
-        return self.z > Z_MIN and self.plausible and self.dbic < DBIC_MAX
+        return self.z > Z_MIN and self.plausible and self.dbic < DBIC_MAX and not self.run_failure
 
 
 @dataclass
@@ -104,14 +111,15 @@ def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Sco
     """Fit ``model`` (the current model plus the candidate at entry ``column`` of x) from x0, where x0 has
     the candidate at its zero; the base chi^2 is the same model's at x0."""
     rows = base.rows
-    base_chi2 = float(np.sum(model.residuals(x0, points_of(model, rows))[rows] ** 2))
+    r0 = model.residuals(x0, points_of(model, rows))[rows]
+    base_chi2, base_failed = float(np.sum(r0 ** 2)), int(np.sum(r0 == FAILED_RESIDUAL))
     active = base.active.copy()
     active[column] = True
     start = x0.copy()
     lo, hi = model.bounds()
     start[column] = float(np.clip(score.phi, lo[column], hi[column]))
     f, retreats = _first_fit(model, start, column, score.place.zero, active, rows, base_chi2)
-    rf = _refit_result(score, model, f, column, base_chi2)
+    rf = _refit_result(score, model, f, column, base_chi2, base_failed)
     rf.starts.append((LINEARISED if not retreats else
                       f"{LINEARISED} moved {START_RETREAT ** retreats:g} times nearer its zero (from farther out "
                       "the refit ended worse than the candidate at its zero)", rf.fit.chi2))
@@ -153,12 +161,13 @@ def _fit_continued(model: Model, start: np.ndarray, active: np.ndarray, rows: np
     return f
 
 
-def _refit_result(score: Score, model: Model, f: FitResult, column: int, base_chi2: float) -> Refit:
+def _refit_result(score: Score, model: Model, f: FitResult, column: int, base_chi2: float,
+                  base_failed_rows: int) -> Refit:
     phi, se = float(f.x[column]), float(f.se[column])
     dchi2 = f.chi2 - base_chi2
     lo_p, hi_p = score.place.plausible
     return Refit(score, model, f, phi, se, float(dchi2), float(dchi2 + np.log(f.n)), bool(lo_p <= phi <= hi_p),
-                 column=column, base_chi2=base_chi2)
+                 column=column, base_chi2=base_chi2, base_failed_rows=base_failed_rows)
 
 
 def restarted(rf: Refit) -> Refit:
@@ -177,7 +186,7 @@ def restarted(rf: Refit) -> Refit:
         evaluations += f.nfev
         starts.append((f"{factor:g} x its first value", f.chi2))
         if f.chi2 < best.fit.chi2:
-            best = _refit_result(rf.score, rf.model, f, rf.column, rf.base_chi2)
+            best = _refit_result(rf.score, rf.model, f, rf.column, rf.base_chi2, rf.base_failed_rows)
     best.starts = starts
     best.fit.nfev = evaluations  # over every start; ``converged`` is the lowest one's
     return best
@@ -206,8 +215,8 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
     base_ho = None
     accepted = None
     for rf in refits:
-        if rf.fit.run_failure():  # first: the other reasons then judge a misfit that is not one
-            rf.reasons.append(rf.fit.run_failure())
+        if rf.run_failure:  # first: the other reasons then judge a misfit that is not one
+            rf.reasons.append(rf.run_failure)
         if not rf.z > Z_MIN:
             rf.reasons.append(f"|phi| = {rf.z:.2g} SE (needs > {Z_MIN:g})")
         if not rf.plausible:

@@ -39,10 +39,11 @@ def test_the_swaps_tried_and_the_one_made(tmp_path):
     e, f = _refit("E"), _refit("F")
     rounds = [_round(1, a, b, c, _refit("D")), _round(2, d, g, h), _round(3, e, f)]
     names = ["k_s", "p:A", "p:D", "p:E"]
-    final_fit = SimpleNamespace(x=np.array([1.0, 2.0, 3.0, 4.0]), bic=lambda: 100.0)
+    final_fit = SimpleNamespace(x=np.array([1.0, 2.0, 3.0, 4.0]), bic=lambda: 100.0, failed_rows=1)
     final = SimpleNamespace(fit=final_fit, model=SimpleNamespace(layout=SimpleNamespace(index=names.index)))
     cal = SimpleNamespace(rounds=rounds, final=final, out=tmp_path, exp=SimpleNamespace(netlist=RIG))
     outcome = {"p:B": (87.0, 5.0, 1.0), "p:G": (104.0, 5.0, 1.0), "p:H": (80.0, 2.0, 1.0)}  # BIC, phi, se
+    failing = {}  # rows failing at an exchanged model's end (the final model: 1)
     seen = []
 
     def fit_stage(netlist, globals_, x_prev, prev_model):
@@ -53,8 +54,10 @@ def test_the_swaps_tried_and_the_one_made(tmp_path):
         x = np.zeros(len(new))
         x[new.index(put_in)] = phi
         se_all = np.full(len(new), se)
+        rows = failing.get(put_in, 1)
         return SimpleNamespace(model=SimpleNamespace(layout=SimpleNamespace(index=new.index)),
-                               fit=SimpleNamespace(x=x, se=se_all, bic=lambda: bic))
+                               fit=SimpleNamespace(x=x, se=se_all, bic=lambda: bic,
+                                                   run_failure=lambda beyond: f"{rows} fail" if rows > beyond else ""))
 
     globals_ = [Free(n, 0.0, -1.0, 1.0, 1.0, "") for n in names]
     tried = try_exchanges(cal, globals_, fit_stage)
@@ -70,6 +73,9 @@ def test_the_swaps_tried_and_the_one_made(tmp_path):
     assert (made.in_key, made.dbic, made.ambiguous) == ("B", -5.0, True)
     outcome["p:B"] = (99.5, 5.0, 1.0)  # a tie (two places that act alike): nothing is swapped
     assert not any(ex.made for ex in try_exchanges(cal, globals_, fit_stage))
+    outcome["p:B"], failing["p:B"] = (87.0, 5.0, 1.0), 3  # better by BIC, but runs fail that the final's do not
+    tried = try_exchanges(cal, globals_, fit_stage)
+    assert not any(ex.made for ex in tried) and tried[0].reasons == ["3 fail"]
 
 
 def test_nothing_is_tried_with_fewer_than_two_effects(tmp_path):

@@ -178,7 +178,7 @@ def test_only_refits_that_pass_and_lie_near_the_best_are_tried_from_more_starts(
 
     def fake_refit(model, x0, column, base, score):
         key = score.place.key
-        fitted = SimpleNamespace(run_failure=lambda: "")
+        fitted = SimpleNamespace(run_failure=lambda beyond: "")
         return selection.Refit(score, None, fitted, z[key], 1.0, first[key] - 5.0, first[key], True)
 
     def fake_restarted(rf):
@@ -277,6 +277,27 @@ def test_a_refit_whose_runs_fail_at_its_end_says_so_before_its_other_reasons(mon
     monkeypatch.setattr(selection, "refit", lambda model, x0, column, base, score: rf)
     monkeypatch.setattr(selection, "_aligned", lambda base, base_model, model: base)
     decision = selection.decide([rf.score], 1, None, None, None, lambda s: (None, None, 1), with_heldout=False)
-    assert decision.refits[0].reasons[0] == ("the model does not run at the fit's end (2 of 2 rows failed: the "
-                                             "solver failed at t = 0.24 s: the step size fell below its minimum)")
-    assert decision.accepted is None
+    assert decision.refits[0].reasons[0] == ("the model does not run at the fit's end (2 of 2 rows failed; the last "
+                                             "solver message in the fit: the solver failed at t = 0.24 s: the step "
+                                             "size fell below its minimum)")
+    assert decision.accepted is None and not rf.passes_fit_tests
+
+
+class _OnePointAlwaysFails(_ClosedLine):
+    """_ClosedLine with a third row whose run fails whatever phi is (a point the declared model cannot run)."""
+
+    n_rows = 3
+
+    def residuals(self, x, points=None):
+        return np.append(super().residuals(x, points), FAILED_RESIDUAL)
+
+    def jacobian(self, x, cols, points, r0):
+        return np.vstack([super().jacobian(x, cols, points, r0), np.zeros(len(cols))])
+
+
+def test_a_run_that_fails_with_the_candidate_at_zero_too_is_not_held_against_it():
+    place = SimpleNamespace(key="gain@p1", zero=0.0, plausible=(0.0, 5.0), unit="-")
+    base = SimpleNamespace(rows=np.ones(3, dtype=bool), active=np.array([True, False]))
+    rf = selection.refit(_OnePointAlwaysFails(), np.array([2.0, 0.0]), 1, base, Score(place, "screened", phi=1.0))
+    assert rf.fit.failed_rows == 1 and rf.base_failed_rows == 1 and rf.run_failure == ""
+    assert abs(rf.phi - 1.5) < 1e-6 and np.isclose(rf.dchi2, -225.0)
