@@ -103,8 +103,9 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
             z = z_score(phi, alt.score.place.zero, se)
             ex = Exchange(out.score.place.key, rnd.index, key, float(stage.fit.bic() - final.fit.bic()), phi, se,
                           z, bool(lo <= phi <= hi), alt.score.place, stage, netlist, new_globals)
-            if stage.fit.run_failure(final.fit.failed_rows):
-                ex.reasons.append(stage.fit.run_failure(final.fit.failed_rows))
+            failure = stage.fit.run_failure(final.fit.failed_rows)  # beyond the rows that fail in the final model
+            if failure:
+                ex.reasons.append(failure)
             if not ex.dbic < -MARGIN:
                 ex.reasons.append(f"BIC {ex.dbic:+.3g}: not lower than the final model's by over {MARGIN:g}")
             if not ex.z > Z_MIN:
