@@ -243,6 +243,9 @@ def test_a_refit_from_where_the_model_does_not_run_is_started_again_nearer_the_c
     assert np.isclose(rf.dchi2, -225.0)
     assert rf.starts[0][0] == ("its linearised estimate moved 100 times nearer its zero (from farther out the refit "
                                "ended worse than the candidate at its zero)")
+    active, rows = np.array([True, True]), np.ones(2, dtype=bool)
+    attempts = [selection._fit_continued(_ClosedLine(), np.array([2.0, phi]), active, rows) for phi in (30.0, 3.0, 0.3)]
+    assert rf.fit.nfev == sum(f.nfev for f in attempts)  # the evaluations of every start tried
 
 
 class _Saturating(_ClosedLine):
