@@ -146,6 +146,10 @@ def _scalar(node, loader, located):
         problem = (getattr(exc, "problem", None) or "cannot read this value").splitlines()[0]
         raise NetlistError(located.file, f"invalid value: {problem}", node.start_mark.line + 1,
                            node.start_mark.column + 1) from None
+    except (ValueError, IndexError, KeyError, AttributeError):  # PyYAML's own reading of an explicit tag
+        # (`!!float` with no value, `!!bool x`, `!!timestamp x`) fails with these rather than a YAMLError
+        raise NetlistError(located.file, f"invalid value: {node.value!r} is not a valid !!{node.tag.rsplit(':', 1)[-1]}",
+                           node.start_mark.line + 1, node.start_mark.column + 1) from None
     if isinstance(value, (bytes, bytearray)) or type(value).__module__ == "datetime":
         return str(node.value)
     return value

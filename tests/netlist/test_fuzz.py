@@ -225,3 +225,17 @@ def test_a_key_with_an_invisible_character_is_shown_escaped(tmp_path):
     path.write_text(text)
     outcome = check_mutant(tmp_path, text.encode())
     assert "unknown key '\\xa0description'" in outcome and outcome.startswith(f"{path}:1:1: \\xa0description:")
+
+
+@pytest.mark.parametrize("value", ["!!float", "!!float x", "!!int", "!!bool x", "!!timestamp x"])
+def test_an_explicit_tag_on_a_value_it_cannot_read_gives_one_line(workdir, value):
+    """The fuzzer's find (CI, session 14): `err: !!float` with no value. PyYAML's own reading of an explicit
+    tag fails with IndexError, ValueError, KeyError or AttributeError rather than a YAMLError; the loader
+    names the file, line and column of the value and the tag."""
+    doc = TEXTS["base"].replace(b"  err:   mix.y", f"  err:   {value}".encode())
+    assert doc != TEXTS["base"]
+    outcome = check_mutant(workdir, doc)
+    _, line, col, message = split_message(outcome)
+    text = doc.decode()
+    assert (line, col) == (text[: text.index(value)].count("\n") + 1, 10), outcome
+    assert f"is not a valid !!{value[2:].split()[0]}" in message, outcome
