@@ -229,3 +229,20 @@ def test_a_stand_in_that_the_later_effects_leave_at_zero_is_removed(tmp_path):
     assert Path(tmp_path / "out" / written["netlist"]).resolve() == removed.netlist.resolve()
     table = markdown(cal, build(cal)).split("## Elimination check")[1].split("##")[0]
     assert "| 1 | sensor_gain@p1 (1) |" in table and "| True | True |  |" in table
+
+
+def test_a_refit_linearised_to_where_the_drive_line_does_not_run_is_started_nearer_zero(tmp_path):
+    """A turbulent loss in the B-line refill valve's line, screened on the drive line with a planted A-B
+    leakage (seed 2 of the Monte Carlo's time_leakage), is linearised so far out (about 1e20 Pa*s^2/m^6) that
+    the closed line stops the solver: every run fails and the fit has no slope. The refit starts again nearer
+    its zero, ends no worse than the candidate at zero, with no failed runs, and the report says where it
+    started."""
+    spec = yaml.safe_load((ROOT / "netlists" / "experiments" / "drive_line_series.yaml").read_text())
+    spec.update({"netlist": str(DRIVE), "data": str(Path(__file__).parent / "data" / "drive_leakage.csv"),
+                 "trace": {"only": ["line_loss_turbulent"]}})
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out")
+    (refill,) = [rf for rf in cal.rounds[0].decision.refits if rf.score.place.key == "line_loss_turbulent@refill_B.b"]
+    assert refill.starts[0][0].startswith("its linearised estimate moved")
+    assert refill.fit.failed_rows == 0 and refill.dchi2 <= 1.0 and not refill.accepted
+    assert "- line_loss_turbulent@refill_B.b: from its linearised estimate moved" in markdown(cal, build(cal))
