@@ -635,11 +635,11 @@ def table(results: list[dict]) -> str:
         "find it. The held-out reference is the truth model predicting from the same information: its "
         "command the spline that the recording alone gives (knots at samples, as the tool starts them; "
         "a held-out block's knots start there too). The median held-out ratio against the truth model "
-        "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". A seed takes " + _span(
-            r["seconds"] for r in rows if "error" not in r) + " s here. " + _recorded_sizes(rows) + " A transport delay on the command shorter than a sample "
-        "interval is another matter: the knots' times take it whole (`time_delay`'s 0.23 ms: lambda 108 with the "
-        "levels, 0.1 with the recording: `python bench/recorded_lambda.py transport_delay@u 0.000227`), so that "
-        "case is not run here. "
+        "with its true command is " + _median_of(rows, "heldout_ratio_true_command") + ". A seed takes "
+        + _span(r["seconds"] for r in rows if "error" not in r) + " s here. " + _recorded_sizes(rows)
+        + " A transport delay on the command shorter than a sample interval is another matter: the knots' times "
+        "take it whole (`time_delay`'s 0.23 ms: lambda 108 with the levels, 0.1 with the recording: `python "
+        "bench/recorded_lambda.py transport_delay@u 0.000227`), so that case is not run here. "
         + _recorded_misses(rows)),
         lambda rows: "`python bench/calibrate_mc.py --recorded --cases " + " ".join(
             c.name for c in CASES if any(r["case"] == c.name for r in rows))
@@ -751,8 +751,9 @@ def _recorded_sizes(rows: list[dict]) -> str:
         for key, value in r["planted"].items():
             first = by_levels.get(case, {}).get(key)
             start = f"{first:.3g}" if first is not None else "its size"
+            kept = first is not None and np.isclose(first, value, rtol=1e-9, atol=0.0)
             parts.append(f"`{case}` {start} (lambda {r['lambda_levels'][key]:.0f} with the levels) "
-                         + ("kept" if first is not None and np.isclose(first, value, rtol=1e-9, atol=0.0) else f"-> {value:.3g}")
+                         + ("kept" if kept else f"-> {value:.3g}")
                          + f" (lambda {r['lambda'][key]:.0f} with the recording)")
         return ", ".join(parts)
 
@@ -1065,9 +1066,8 @@ def _restarts() -> str:
         return ""
 
     def listed(counts: dict) -> str:
-        total = sum(counts.values())
-        return (f"{total} seed{'s' * (total > 1)} (" + ", ".join(f"{k} {v}" for k, v in counts.items()) + ")"
-                if counts else "no seed")
+        return (_count(sum(counts.values()), "seed") + " (" + ", ".join(f"{k} {v}" for k, v in counts.items())
+                + ")" if counts else "no seed")
 
     def among_ambiguous(counts: dict, n: int) -> str:
         return f", {n} of them between places the round reports ambiguous with each other" if counts else ""

@@ -148,7 +148,8 @@ def _scalar(node, loader, located):
                            node.start_mark.column + 1) from None
     except (ValueError, IndexError, KeyError, AttributeError):  # PyYAML's own reading of an explicit tag
         # (`!!float` with no value, `!!bool x`, `!!timestamp x`) fails with these rather than a YAMLError
-        raise NetlistError(located.file, f"invalid value: {node.value!r} is not a valid !!{node.tag.rsplit(':', 1)[-1]}",
+        tag = node.tag.rsplit(":", 1)[-1]
+        raise NetlistError(located.file, f"invalid value: {node.value!r} is not a valid !!{tag}",
                            node.start_mark.line + 1, node.start_mark.column + 1) from None
     if isinstance(value, (bytes, bytearray)) or type(value).__module__ == "datetime":
         return str(node.value)
