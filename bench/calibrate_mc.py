@@ -1374,8 +1374,11 @@ def main(argv=None) -> int:
             summary = result.get("error") or (f"accepted {result['accepted']}, chi2/nu {result['chi2nu_after']:.3g}, "
                                               f"held-out ratio {result['heldout_ratio']}, {result['seconds']:.0f} s")
             print(f"{result['case']} seed {result['seed']}: {summary}", flush=True)
-    write_table()  # refused when records are missing (said on stderr): the run's records stand, so exit 0
-    return 0
+    if write_table():
+        return 0
+    files = sorted({str(results_file(case.kind)) for case in cases})
+    print(f"the run's records are in {', '.join(files)}; the table was not rewritten", file=sys.stderr)
+    return 2  # the records stand, but a script must not take the committed table for this run's
 
 
 if __name__ == "__main__":

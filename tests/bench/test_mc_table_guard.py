@@ -78,3 +78,21 @@ def test_the_table_is_left_untouched(tmp_path, monkeypatch):
     assert mc.write_table() is False
     assert table.read_text() == COMMITTED
     assert (tmp_path / "out" / "table_partial.md").exists()
+
+
+def test_a_run_whose_table_is_refused_exits_non_zero(tmp_path, monkeypatch, capsys):
+    """A run that leaves the table unwritten says so and exits 2, so a script does not take the committed
+    table for the run's (here every asked-for seed is already recorded, so the run is the table step alone)."""
+    mc = _bench()
+    monkeypatch.setattr(mc, "RECORDS", tmp_path)
+    monkeypatch.setattr(mc, "MCV_RESULTS", tmp_path / "results_mcv.jsonl")
+    table = tmp_path / "table.md"
+    table.write_text(COMMITTED)
+    monkeypatch.setattr(mc, "TABLE", table)
+    monkeypatch.setattr(mc, "OUT", tmp_path / "out")
+    (tmp_path / "results_mcv.jsonl").write_text(  # its seed 0 (failed): nothing left to run
+        json.dumps({"case": "mcv_none", "seed": 0, "error": "ValueError: x"}) + "\n")
+    assert mc.main(["--cases", "mcv_none", "--seeds", "1", "--first-seed", "0"]) == 2
+    err = capsys.readouterr().err
+    assert "not writing" in err and "the table was not rewritten" in err
+    assert table.read_text() == COMMITTED
