@@ -12,7 +12,10 @@ a held-out refit then did not converge in 100 evaluations).
 
 Standard errors: cov = (J^T J)^-1 at the solution (the residuals are already divided by the noise, so this
 is the covariance when the model is right), inflated by max(1, chi^2/nu) when the fit is worse than the
-noise allows: a misfit never makes a parameter look better determined than the data say.
+noise allows: a misfit never makes a parameter look better determined than the data say. Rows whose run
+failed at the solution hold a penalty (FAILED_RESIDUAL; it keeps chi^2 and BIC honest about a model that does
+not run there), not a residual: they take no part in either, or one point the model cannot run would inflate
+every SE of the fit by about FAILED_RESIDUAL / sqrt(nu).
 """
 
 from __future__ import annotations
@@ -35,7 +38,7 @@ class FitResult:
     chi2: float
     n: int
     p: int
-    cov: np.ndarray  # of x[active], inflated by max(1, chi2/nu)
+    cov: np.ndarray  # of x[active], inflated by max(1, chi2/nu) over the rows that ran
     se: np.ndarray  # full length, NaN where not fitted
     nfev: int
     message: str
@@ -54,6 +57,16 @@ class FitResult:
     def bic(self) -> float:
         """chi^2 + p ln n: -2 log-likelihood up to a constant (known noise) plus the BIC penalty."""
         return self.chi2 + self.p * np.log(self.n)
+
+    @property
+    def inflation(self) -> float:
+        """What the covariance was inflated by: max(1, chi^2/nu) over the rows that ran."""
+        return misfit_inflation(self.r[self.rows], self.p)
+
+    @property
+    def ran(self) -> np.ndarray:
+        """Which rows of J ran at the fit's end (the others hold the failure value)."""
+        return ran_rows(self.r[self.rows])
 
     @property
     def failed_rows(self) -> int:
@@ -125,14 +138,24 @@ def fit(model: Model, x0: np.ndarray, active: np.ndarray, rows: np.ndarray | Non
 def summarise(model: Model, x, active, rows, r, J, nfev=0, message="", converged=True) -> FitResult:
     chi2 = float(np.sum(r[rows] ** 2))
     n, p = int(rows.sum()), int(np.sum(active))
-    cov = covariance(J)
-    nu = max(n - p, 1)
-    cov = cov * max(1.0, chi2 / nu)
+    cov = covariance(J[ran_rows(r[rows])]) * misfit_inflation(r[rows], p)
     se = np.full(len(x), np.nan)
     se[np.nonzero(active)[0]] = np.sqrt(np.maximum(np.diag(cov), 0.0)) if p else []
     unsettled = len(model.unsettled) if model.data.kind == "steady" else 0
     return FitResult(x, np.asarray(active, bool), rows, r, J, chi2, n, p, cov, se, nfev, message, unsettled,
                      list(model.failures), converged)
+
+
+def ran_rows(r_used: np.ndarray) -> np.ndarray:
+    """Which of a fit's residual rows ran: a failed run's rows hold a penalty, not a misfit noise could explain."""
+    return r_used != FAILED_RESIDUAL
+
+
+def misfit_inflation(r_used: np.ndarray, p: int) -> float:
+    """max(1, chi^2/nu) over the rows that ran, for p fitted parameters: what a misfit multiplies the
+    covariance by."""
+    ran = ran_rows(r_used)
+    return max(1.0, float(np.sum(r_used[ran] ** 2)) / max(int(ran.sum()) - p, 1))
 
 
 def covariance(J: np.ndarray) -> np.ndarray:

@@ -192,9 +192,10 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
 def knot_covariance(model: Model, f: FitResult, knots: list[int]) -> np.ndarray:
     """The covariance of the knots ``knots`` (indices into x) after the fold's refit ``f``: (J^T J + P)^-1
     of all its fitted parameters, with P the precision of a uniform spread over each knot time's bounds,
-    inflated as the fit's own covariance is (max(1, chi^2/nu)); the rows of ``knots``. Where a direction of
-    the other parameters is not determined and reaches the knots (an infinite variance), the knots' own
-    block, the others held, (J_k^T J_k + P_k)^-1, is used instead: finite, and smaller, never larger."""
+    inflated as the fit's own covariance is (max(1, chi^2/nu), both over the rows that ran); the rows of
+    ``knots``. Where a direction of the other parameters is not determined and reaches the knots (an infinite
+    variance), the knots' own block, the others held, (J_k^T J_k + P_k)^-1, is used instead: finite, and
+    smaller, never larger."""
     cols = np.nonzero(f.active)[0]
     lo, hi = model.bounds()
     width = hi[cols] - lo[cols]
@@ -203,11 +204,12 @@ def knot_covariance(model: Model, f: FitResult, knots: list[int]) -> np.ndarray:
     P = np.zeros((len(times), cols.size))  # rows sqrt(12) / width: variance width^2 / 12
     P[np.arange(len(times)), times] = np.sqrt(12.0) / width[times]
     where = [int(np.nonzero(cols == j)[0][0]) for j in knots]
-    C = covariance(np.vstack([f.J, P]))[np.ix_(where, where)]
+    J = f.J[f.ran]
+    C = covariance(np.vstack([J, P]))[np.ix_(where, where)]
     if not np.all(np.isfinite(C)):
-        C = covariance(np.vstack([f.J, P])[:, where])
+        C = covariance(np.vstack([J, P])[:, where])
     C = 0.5 * (C + C.T)
-    return C * max(1.0, f.reduced)
+    return C * f.inflation
 
 
 def knot_spread(model: Model, f: FitResult, knots: list[int], sel: np.ndarray) -> np.ndarray:

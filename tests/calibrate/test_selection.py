@@ -304,3 +304,5 @@ def test_a_run_that_fails_with_the_candidate_at_zero_too_is_not_held_against_it(
     rf = selection.refit(_OnePointAlwaysFails(), np.array([2.0, 0.0]), 1, base, Score(place, "screened", phi=1.0))
     assert rf.fit.failed_rows == 1 and rf.base_failed_rows == 1 and rf.run_failure == ""
     assert abs(rf.phi - 1.5) < 1e-6 and np.isclose(rf.dchi2, -225.0)
+    # nor in its standard error: 0.1 from the row 10 (phi - 1.5) alone, not inflated by the failed row's 1e6
+    assert np.isclose(rf.se, 0.1) and rf.passes_fit_tests
