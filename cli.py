@@ -364,8 +364,10 @@ def cmd_optimise(args, sweep: bool = False) -> int:
 
 def cmd_calibrate(args) -> int:
     """vphs calibrate EXPERIMENT: declared fit, residual trace, augmented netlist, report (blocks.calibrate)."""
+    from blocks.calibrate.output import replacing
     from blocks.calibrate.report import write
-    from blocks.calibrate.run import calibrate
+    from blocks.calibrate.experiment import load_experiment
+    from blocks.calibrate.run import calibrate, refuse_to_overwrite_inputs
 
     out = Path(args.output or Path("out") / "calibrate" / Path(args.experiment).stem)
     if out.exists() and not out.is_dir():
@@ -375,8 +377,11 @@ def cmd_calibrate(args) -> int:
         if not args.quiet:
             print(f"vphs: {message}", file=sys.stderr, flush=True)
 
-    cal = calibrate(args.experiment, out, progress=say)
-    paths = write(cal, out)
+    exp = load_experiment(args.experiment)
+    refuse_to_overwrite_inputs(exp, out)  # before the previous run's files are moved aside: they may be inputs
+    with replacing(out):  # the previous run's files are put back if this one fails or is interrupted
+        cal = calibrate(exp, out, progress=say)
+        paths = write(cal, out)
     for line in cal.verdict:
         print(line)
     say("wrote " + ", ".join(str(p) for p in paths.values()))

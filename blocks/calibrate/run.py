@@ -17,6 +17,9 @@ check (:mod:`blocks.calibrate.elimination`) takes out one that no longer earns i
 others (a later effect does its work). The verdict: the effects found, the ambiguities, and "unexplained
 discrepancy remains" when the final fit is still significantly worse than the noise (chi^2, block means,
 residual whiteness or drift; p < 0.01 for the family of tests, Bonferroni).
+
+Everything is written under ``out``; `vphs calibrate` runs this inside blocks.calibrate.output.replacing, so
+that the folder holds one run's files or the previous run's, never a mix.
 """
 
 from __future__ import annotations
@@ -86,11 +89,11 @@ class Calibration:
     equilibria: int = 0  # Newton solves of steady points
 
 
-def calibrate(experiment: str | Path, out: str | Path, progress=None, rounds: int | None = None,
+def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=None, rounds: int | None = None,
               with_heldout: bool = True) -> Calibration:
     say = progress or (lambda message: None)
     clock = time.perf_counter()
-    exp = load_experiment(experiment)
+    exp = experiment if isinstance(experiment, Experiment) else load_experiment(experiment)
     out = Path(out)
     refuse_to_overwrite_inputs(exp, out)
     data = load_data(exp)
