@@ -237,6 +237,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
 
     file = str(file)
     spec, located = load_spec(file)
+    check_candidate_names(spec.trace, located)
     base = Path(file).parent
     netlist = (base / spec.netlist).resolve()
     if not netlist.is_file():
@@ -505,3 +506,18 @@ def default_step(start: float, lower: float, upper: float) -> float:
     if np.isfinite(lower) and np.isfinite(upper) and upper > lower:
         return 1e-3 * (upper - lower)
     return 1e-6
+
+
+def check_candidate_names(trace: TraceSpec, located: Located) -> None:
+    """``trace.only`` and ``trace.exclude`` name candidates of the library: a misspelt name would screen
+    nothing (only) or exclude nothing (exclude) without a word."""
+    from blocks.calibrate.candidates import registered
+
+    library = list(registered())
+    for key, names in (("only", trace.only or []), ("exclude", trace.exclude)):
+        for k, name in enumerate(names):
+            if name not in library:
+                hint = nearest(name, library)
+                raise located.error(("trace", key, k), f"trace.{key}: no candidate '{name}' in the library"
+                                    + (f"; did you mean {', '.join(hint)}?" if hint else "")
+                                    + f" (the library: {', '.join(library)})")

@@ -153,3 +153,14 @@ def test_the_thesis_crack_table_reads_with_its_group_named():
     table = read_table(ROOT.parent / "shared" / "data" / "mcv_vf250_crack.csv", group="setting")
     assert table.columns["crack"] == pytest.approx([95.4e5, 152.0e5, 211.5e5])
     assert table.text["set_screw"][1] == "std"
+
+
+@pytest.mark.parametrize("key", ["only", "exclude"])
+def test_a_misspelt_candidate_is_named_with_the_nearest(tmp_path, capsys, key):
+    """Before: `only: [flow_forse]` screened nothing and ended in "unexplained discrepancy remains";
+    `exclude: [flow_forse]` excluded nothing. Both without a word."""
+    code, err, path = run(tmp_path, capsys, changed(trace={key: ["sensor_offset", "flow_forse"]}))
+    assert code == 2 and "\n" not in err
+    assert re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: trace\.{key}: no candidate 'flow_forse' in the "
+                        rf"library; did you mean flow_force\? \(the library: .*sensor_offset.*\)", err), err
+    assert not (tmp_path / "out").exists()
