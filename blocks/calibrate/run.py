@@ -465,6 +465,12 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines += [f"  to separate them: {s}" for s in rnd.decision.separation]
             lines += [f"  what the choice changes: {s}" for s in rnd.decision.depends]
     unexplained = False
+    if cal.final is not None:
+        loose = unidentified(cal.final)
+        if loose:
+            lines.append(f"not identifiable from these data: {', '.join(loose)} (the data do not fix "
+                         f"{'it' if len(loose) == 1 else 'them'}: an infinite standard error; the value reported is "
+                         f"wherever the fit left it, and a fit 'to the noise' says nothing about it)")
     if cal.final is not None and not cal.final.fit.converged:
         lines.append(f"the final fit stopped at its limit of {cal.final.fit.nfev} evaluations before converging: "
                      f"its values may not be the best fit")
@@ -484,6 +490,14 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
         else:
             lines.append("the augmented model fits to the noise")
     return lines, unexplained
+
+
+def unidentified(stage: Stage) -> list[str]:
+    """The fitted parameters (declared, effects and sensor corrections; latent inputs have their own readings)
+    that the data do not fix: an infinite or undefined standard error (blocks.calibrate.fit.covariance)."""
+    return [f.name for k, f in enumerate(stage.model.layout.globals)
+            if f.kind in ("declared", "candidate", "correction") and stage.fit.active[k]
+            and not np.isfinite(stage.fit.se[k])]
 
 
 def augmented_header(exp: Experiment, cal: Calibration, netlist: Path) -> str:

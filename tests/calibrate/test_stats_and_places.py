@@ -177,13 +177,39 @@ def test_a_final_fit_that_did_not_converge_is_in_the_verdict():
 
     from blocks.calibrate.run import verdict
 
-    final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60), lof=SimpleNamespace(significant=lambda: []))
+    final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60), lof=SimpleNamespace(significant=lambda: []),
+                            model=SimpleNamespace(layout=SimpleNamespace(globals=[])))
     lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
     assert lines[0] == "the final fit stopped at its limit of 60 evaluations before converging: its values may " \
                        "not be the best fit"
     final.fit.converged = True
     lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
     assert lines == ["no effect found: the declared model fits to the noise"]
+
+
+def test_a_parameter_the_data_do_not_fix_is_named_in_the_verdict():
+    """y = a + b*t fitted to points at t = 0 only: b is not fixed (its column of J is zero and its SE
+    infinite), a is. Before, the verdict said "the declared model fits to the noise" and nothing more."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.experiment import Free
+    from blocks.calibrate.fit import fit
+    from blocks.calibrate.run import verdict
+
+    t, y = np.zeros(3), np.array([0.9, 1.1, 1.0])
+    model = SimpleNamespace(
+        n_rows=3, data=SimpleNamespace(kind="time"), failures=[],
+        residuals=lambda x, points=None: x[0] + x[1] * t - y,
+        jacobian=lambda x, cols, points, r0: np.column_stack([np.ones(3), t])[:, cols],
+        bounds=lambda: (np.full(2, -10.0), np.full(2, 10.0)), steps=lambda: np.full(2, 1e-6),
+        layout=SimpleNamespace(globals=[Free("a", 0.0, -10, 10, 1e-6, "1"), Free("b", 0.5, -10, 10, 1e-6, "1")]))
+    res = fit(model, np.array([0.0, 0.5]), np.array([True, True]))
+    assert np.isfinite(res.se[0]) and np.isinf(res.se[1])
+    final = SimpleNamespace(fit=res, model=model, lof=SimpleNamespace(significant=lambda: []))
+    lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
+    assert lines == ["not identifiable from these data: b (the data do not fix it: an infinite standard error; the "
+                     "value reported is wherever the fit left it, and a fit 'to the noise' says nothing about it)",
+                     "no effect found: the declared model fits to the noise"]
 
 
 def _line_fit(x, y, sigma):
