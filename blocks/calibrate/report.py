@@ -150,7 +150,7 @@ def build(cal) -> dict:
         "rounds": [{"round": r.index, "netlist": str(r.stage.netlist), "screening_netlist": str(r.screening_file),
                     "screening_reproduces_fit_within_sigma": r.consistency,
                     "augmented_netlist": str(r.augmented_file) if r.augmented_file else None,
-                    "notes": r.notes, "screening": screening_rows(r), "refits": refit_rows(r),
+                    "notes": r.notes, "stopped": r.stopped, "screening": screening_rows(r), "refits": refit_rows(r),
                     "ambiguous": r.decision.ambiguous, "separation": r.decision.separation,
                     "choice_moves": r.decision.depends,
                     "heldout_error": r.stage.heldout.error if r.stage.heldout else None,
@@ -278,9 +278,12 @@ def markdown(cal, info: dict) -> str:
     for r in info["rounds"]:
         L += [f"## Round {r['round']}: screening", "",
               f"Model: `{r['netlist']}`. Screening netlist `{r['screening_netlist']}` (every candidate at every "
-              f"place, parameters at zero) reproduces the fit within {r['screening_reproduces_fit_within_sigma']:.3g} "
-              f"sigma. Score T: the first-order drop of chi^2 after the free parameters absorb what they can "
-              f"(~chi^2_1 if the candidate is absent).", ""]
+              f"place, parameters at zero) " + (f"reproduces the fit within "
+                                                f"{r['screening_reproduces_fit_within_sigma']:.3g} sigma" if
+                                                not r["stopped"] else f"**does not reproduce the fit**: "
+                                                f"{r['stopped']}; the scores below are not to be read")
+              + ". Score T: the first-order drop of chi^2 after the free parameters absorb what they can "
+              "(~chi^2_1 if the candidate is absent).", ""]
         for note in r["notes"]:
             L.append(f"- {note}")
         L += ["", "| rank | candidate | where | status | score T | p | linear estimate | unit | absorbed | note |",

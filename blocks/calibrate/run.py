@@ -46,6 +46,9 @@ from blocks.calibrate.selection import Decision, decide
 from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
 from blocks.result import atomic_write_text
 
+SCREENING_TOLERANCE = 1.0  # sigma: the screening netlist at zero is the fitted model; a larger difference in
+# any residual (a run failed, or the solver is off) would make every score a score of the solver's error
+
 
 @dataclass
 class Stage:
@@ -69,6 +72,7 @@ class Round:
     screening_file: Path
     augmented_file: Path | None = None
     smodel: Model | None = None
+    stopped: str = ""  # why the trace stopped before judging any candidate ('' if it did not)
 
 
 @dataclass
@@ -120,7 +124,8 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         cal.seconds[f"round {k}"] = time.perf_counter() - t0
         acc = rnd.decision.accepted
         say(f"round {k}: screened {len(rnd.scores)} candidate places ({time.perf_counter() - t1:.1f} s): "
-            + (f"accepted {acc.score.place.key} = {acc.phi:.4g} +- {acc.se:.2g}" if acc else "nothing accepted"))
+            + (f"accepted {acc.score.place.key} = {acc.phi:.4g} +- {acc.se:.2g}" if acc
+               else f"stopped: {rnd.stopped}" if rnd.stopped else "nothing accepted"))
         if acc is None:
             break
         place = acc.score.place
@@ -391,6 +396,13 @@ def trace_round(k: int, stage: Stage, exp: Experiment, data: Dataset, globals_: 
     scores, consistency = screen(smodel, xs, sbase, places, column_of)
     stage.model.simulations += smodel.simulations
     stage.model.equilibria += smodel.equilibria
+    if consistency > SCREENING_TOLERANCE:
+        stopped = (f"the screening netlist does not reproduce the fit (its residuals differ by up to "
+                   f"{consistency:.3g} sigma" + (f"; the last solver message: {smodel.failures[-1]}"
+                                                 if smodel.failures else "")
+                   + "), so no candidate is judged on it: check the solver settings")
+        return Round(k, stage, scores, consistency, Decision([], None, [], [], None), list(ctx.notes),
+                     screening_file, smodel=smodel, stopped=stopped)
     lean: dict[str, Model] = {}
 
     def candidate_model(score: Score):
@@ -458,6 +470,8 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
                          f"{test.z:.2g} SE from zero and taking it out changes BIC by {test.dbic:+.3g} (an effect "
                          f"is kept only over 3 SE and over +10)")
     for rnd in cal.rounds:
+        if rnd.stopped:
+            lines.append(f"round {rnd.index}: the trace stopped: {rnd.stopped}")
         if rnd.decision.ambiguous:
             best = rnd.decision.accepted or next((r for r in rnd.decision.refits if r.passes_fit_tests), None)
             name = best.score.place.key if best else "?"

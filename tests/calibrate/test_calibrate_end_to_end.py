@@ -246,3 +246,25 @@ def test_a_refit_linearised_to_where_the_drive_line_does_not_run_is_started_near
     assert refill.starts[0][0].startswith("its linearised estimate moved")
     assert refill.fit.failed_rows == 0 and refill.dchi2 <= 1.0 and not refill.accepted
     assert "- line_loss_turbulent@refill_B.b: from its linearised estimate moved" in markdown(cal, build(cal))
+
+
+def test_a_screening_netlist_that_does_not_reproduce_the_fit_stops_the_trace(tmp_path, monkeypatch):
+    """Solver settings too tight for the solver made every screening run fail: the screening residuals then
+    differed from the fit by the failure value (1e3 sigma), every candidate (the planted flow force too)
+    read 'no effect', and the report went on. Now the round stops, and the verdict and report say why."""
+    import blocks.calibrate.run as run
+
+    real = run.screen
+
+    def off_by(smodel, x, base, places, column_of):  # the screening as a failed run would make it
+        scores, _ = real(smodel, x, base, places, column_of)
+        return scores, 1e3
+
+    monkeypatch.setattr(run, "screen", off_by)
+    exp = steady_case(tmp_path, 0.3, seed=5, only=["flow_force"])
+    cal = calibrate(exp, tmp_path / "out")
+    assert cal.accepted == [] and len(cal.rounds) == 1 and not cal.rounds[0].decision.refits
+    assert ("round 1: the trace stopped: the screening netlist does not reproduce the fit (its residuals differ "
+            "by up to 1e+03 sigma), so no candidate is judged on it: check the solver settings") in cal.verdict
+    text = markdown(cal, build(cal))
+    assert "**does not reproduce the fit**" in text and "1e+03 sigma" in text
