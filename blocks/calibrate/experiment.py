@@ -335,6 +335,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                               for n, v in values.items()}
     if spec.group_table is not None:
         _read_group_table(spec, located, base, groups, param_name)
+    check_values(circuit, overrides, groups, spec, located)
 
     for c in channels:  # a latent level is fitted: a value given for it too would be silently overridden
         for k, level in enumerate(c.latent):
@@ -521,3 +522,19 @@ def check_candidate_names(trace: TraceSpec, located: Located) -> None:
                 raise located.error(("trace", key, k), f"trace.{key}: no candidate '{name}' in the library"
                                     + (f"; did you mean {', '.join(hint)}?" if hint else "")
                                     + f" (the library: {', '.join(library)})")
+
+
+def check_values(circuit, overrides: dict[str, float], groups: dict[str, dict[str, float]], spec: ExperimentSpec,
+                 located: Located) -> None:
+    """The netlist evaluated with the experiment's values (overrides, then each group's on top): a value the
+    netlist cannot take (R_meter = 0 in G = 1/R_meter) is the experiment's error, located at the entry that
+    sets it, before any fit (it was found after the first, and pointed at the netlist's line)."""
+    tries = [(("overrides",), "overrides", overrides)] + [
+        ((("groups", label) if label in {str(k) for k in spec.groups} else ("group_table",)), f"group {label}",
+         {**overrides, **values}) for label, values in groups.items()]
+    for path, what, values in tries:
+        try:
+            circuit.vectors(values)
+        except NetlistError as exc:
+            raise located.error(path, f"{path[0]}: with the values of {what} the netlist cannot be evaluated: "
+                                      f"{exc}") from None

@@ -164,3 +164,20 @@ def test_a_misspelt_candidate_is_named_with_the_nearest(tmp_path, capsys, key):
     assert re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: trace\.{key}: no candidate 'flow_forse' in the "
                         rf"library; did you mean flow_force\? \(the library: .*sensor_offset.*\)", err), err
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("where, edit", [
+    ("overrides", {"overrides": {"R_meter": "0 Pa*s/m^3"}}),
+    ("groups", {"groups": {"1": {"p_set": "30 bar", "R_meter": "0 Pa*s/m^3"}}}),
+])
+def test_a_value_the_netlist_cannot_take_is_the_experiments_error(tmp_path, capsys, where, edit):
+    """R_meter = 0 in the netlist's G = 1/R_meter: before, the first fit ran (chi^2/nu 1e6, every run failed)
+    and the error then named the netlist's line, not the experiment's entry that set the value."""
+    code, err, path = run(tmp_path, capsys, changed(**edit))
+    assert code == 2 and "\n" not in err
+    assert re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: {where}: with the values of "
+                        rf"(overrides|group 1) the netlist cannot be evaluated: .*relief_rig\.yaml:\d+:\d+: "
+                        rf"meter\.G: cannot evaluate '1/R_meter': float division by zero", err), err
+    line = int(err.split(":")[2])
+    assert path.read_text().splitlines()[line - 1].lstrip().startswith(where if where == "overrides" else "'1'")
+    assert not (tmp_path / "out").exists()
