@@ -212,6 +212,30 @@ def test_a_parameter_the_data_do_not_fix_is_named_in_the_verdict():
                      "no effect found: the declared model fits to the noise"]
 
 
+@pytest.mark.parametrize("reduced", [29.5, 3.56e5])
+def test_a_gross_misfit_asks_to_check_the_experiment_before_the_effects(reduced):
+    """A group's crack setting typed as -3000 bar: chi^2/nu 3.5e5 before and after, a laminar line loss
+    'found' at dBIC -26. The verdict says the effect explains a sliver and points at the experiment; a misfit
+    as large as the thesis's declared model's (29.5) gets no such line."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.run import verdict
+
+    final = SimpleNamespace(fit=SimpleNamespace(converged=True),
+                            lof=SimpleNamespace(reduced=reduced, significant=lambda: [f"chi^2/nu = {reduced:.3g}"]),
+                            model=SimpleNamespace(layout=SimpleNamespace(globals=[])))
+    cal = SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], exp=SimpleNamespace(exact_columns=[]),
+                          accepted=[("line_loss_laminar@relief.b", "laminar line loss", "at relief.b",
+                                     "cal_kl_relief_b", 2.0e9, 3.8e8, "Pa*s/m^3")])
+    lines, unexplained = verdict(cal)
+    assert unexplained and lines[1] == f"unexplained discrepancy remains: chi^2/nu = {reduced:.3g}"
+    gross = [line for line in lines if "check the experiment first" in line]
+    assert gross == ([] if reduced < 100 else [
+        "  the model misses the data by chi^2/nu = 3.56e+05, far more than an effect of the library leaves "
+        "unexplained: check the experiment first (units, overrides, the groups' values, which columns are imposed); "
+        "an effect found on such a fit explains a sliver of the misfit and is not to be read as measured"])
+
+
 def _line_fit(x, y, sigma):
     """A straight line fitted to y(x) by least squares, as the structure test sees a fit: normalised
     residuals r = (model - measured)/sigma, the Jacobian d r / d (a, b), every row one output channel."""
