@@ -213,6 +213,10 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
                 message += f" (allowed: {', '.join(near or sorted(model.model_fields))})"
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
+        elif first["type"] == "model_type":  # pydantic names its class ("a valid dictionary or instance of X")
+            model = _model_at(tuple(path))
+            message = "expected a mapping" + (f" with keys {', '.join(model.model_fields)}" if model else "") + \
+                f", got {type(first.get('input')).__name__} {first.get('input')!r}"
         raise located.error(path, f"{where}: {message}") from None
 
 

@@ -181,3 +181,10 @@ def test_a_value_the_netlist_cannot_take_is_the_experiments_error(tmp_path, caps
     line = int(err.split(":")[2])
     assert path.read_text().splitlines()[line - 1].lstrip().startswith(where if where == "overrides" else "'1'")
     assert not (tmp_path / "out").exists()
+
+
+def test_a_scalar_where_a_mapping_belongs_names_the_keys_not_a_class(tmp_path, capsys):
+    """Before: 'free.k_s: Input should be a valid dictionary or instance of FreeSpec'."""
+    code, err, path = run(tmp_path, capsys, changed(**{"free": {"k_s": "50 bar"}}))
+    assert code == 2
+    assert err.endswith(": free.k_s: expected a mapping with keys initial, lower, upper, step, got str '50 bar'"), err
