@@ -63,6 +63,7 @@ def hang_guard(seconds: int = 10):
     ("15 t", "kg", 15e3),
     ("90 deg", "rad", math.pi / 2),
     ("1 ms", "s", 1e-3),
+    ("250 us", "s", 250e-6),  # microseconds, in ASCII as um is for micrometres
     ("1e5", "Pa", 1e5),  # a bare number in a string is SI
     ("4 m^0.5", "m^0.5", 4.0),
 ])
