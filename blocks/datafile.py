@@ -227,7 +227,9 @@ def _header_cell(file: str, line_no: int, col: int, cell: str, seen: list[str]) 
     """(name, unit) of one header cell, the unit checked (None: no brackets); errors located."""
     m = _HEADER.match(cell)
     if not m or not m.group("name"):
-        raise DataFileError(file, f"column header '{cell}': expected 'name [unit]'", line_no, col)
+        hint = next((f"; the columns look separated by {label}: vphs reads comma-separated files"
+                     for sep, label in ((";", "';'"), ("\t", "tabs")) if sep in cell), "")
+        raise DataFileError(file, f"column header '{cell}': expected 'name [unit]'{hint}", line_no, col)
     name, unit = m.group("name").strip(), m.group("unit")
     if name in seen:
         raise DataFileError(file, f"column '{name}' appears twice in the header", line_no, col)

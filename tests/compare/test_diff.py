@@ -250,6 +250,8 @@ BAD_CASES = {
     "grouping column as curve": (None, "run,t [s],y [bar]\na,1,1\n", ["--y", "run"], "{ref}:1:1: column 'run'",
                                  ["grouping column"]),
     "empty unit": (None, "t [s],y []\n1,1\n", [], "{ref}:1:2:", ["empty unit"]),
+    "semicolons": (None, "t [s];y [bar]\n1;1\n", [], "{ref}:1:1:", ["separated by ';'", "comma-separated"]),
+    "tabs": (None, "t [s]\ty [bar]\n1\t1\n", [], "{ref}:1:1:", ["separated by tabs", "comma-separated"]),
 }
 
 
