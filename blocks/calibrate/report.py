@@ -216,7 +216,8 @@ def markdown(cal, info: dict) -> str:
                  f"{_g(r['heldout_rmse_after'], 3)} | {_g(r['heldout_chi2n_after'], 3)} |")
     L += ["", "Held-out: each fold predicted by the model refitted without it; chi^2/n is the mean squared "
               "residual over the noise (1 for a model that predicts to the noise; a prediction fits nothing, so "
-              "n, not nu)."]
+              "n, not nu). The held-out error above (and in the screening rounds' refit tables) is that mean over "
+              "every held-out row of the compared outputs together."]
     L.append("")
     L.append("Noise: " + "; ".join(f"{r['channel']}: {r['noise_source']}" for r in info["channels"]) + ".")
     if data.kind == "time":
@@ -283,7 +284,9 @@ def markdown(cal, info: dict) -> str:
                                                 not r["stopped"] else f"**does not reproduce the fit**: "
                                                 f"{r['stopped']}; the scores below are not to be read")
               + ". Score T: the first-order drop of chi^2 after the free parameters absorb what they can "
-              "(~chi^2_1 if the candidate is absent).", ""]
+              "(~chi^2_1 if the candidate is absent); p is its tail, halved (one-sided) for a candidate whose "
+              "parameter takes one sign only (a loss, a leakage), whole for one of either sign (an offset, a gain).",
+              ""]
         for note in r["notes"]:
             L.append(f"- {note}")
         L += ["", "| rank | candidate | where | status | score T | p | linear estimate | unit | absorbed | note |",
