@@ -86,7 +86,12 @@ class HeldOut:
 
 
 def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
-    data = model.data
+    return folds_of(model.data, spec)
+
+
+def folds_of(data, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
+    """The scheme as run (with what it fell back to, or how k was cut, in brackets) and its folds: (label,
+    row indices of the data's points or samples)."""
     groups = data.groups
     if spec.scheme == "leave_one_group_out" and data.kind == "steady" and len(groups) >= 2:
         return "leave one group out", [(label, idx) for label, idx in groups.items()]
@@ -103,20 +108,23 @@ def make_folds(model: Model, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
             folds.append((" + ".join(members), np.nonzero(np.isin(sources, members))[0]))
         return f"{spec.k}-fold over experiments", folds
     k = min(spec.k, data.n)
+    cut = f" (k = {spec.k} cut to the {data.n} {'points' if data.kind == 'steady' else 'samples'})" if k < spec.k \
+        else ""
     if data.kind == "steady":
         order = np.random.default_rng(spec.seed).permutation(data.n)
         parts = np.array_split(order, k)
         note = "" if spec.scheme == "kfold" else (
             " (no groups: leave_one_group_out fell back to kfold)" if spec.scheme == "leave_one_group_out"
             else f" (one data file: {spec.scheme} fell back to kfold)")
-        return f"{k}-fold over points{note}", [(f"fold {i + 1}", np.sort(p)) for i, p in enumerate(parts)]
+        return f"{k}-fold over points{note}{cut}", [(f"fold {i + 1}", np.sort(p)) for i, p in enumerate(parts)]
     if spec.scheme in ("leave_one_group_out", "leave_one_experiment_out") and len(groups) >= 2:  # runs
         return "leave one run out", [(label, idx) for label, idx in groups.items()]
     parts = np.array_split(np.arange(data.n), k)
     note = "" if spec.scheme == "kfold" else (
         " (one run: leave_one_group_out fell back to kfold)" if spec.scheme == "leave_one_group_out"
         else f" ({spec.scheme} needs steady points: it fell back to kfold)")
-    return f"{k} contiguous blocks of the time series{note}", [(f"block {i + 1}", p) for i, p in enumerate(parts)]
+    return f"{k} contiguous blocks of the time series{note}{cut}", [(f"block {i + 1}", p)
+                                                                    for i, p in enumerate(parts)]
 
 
 def knot_in_block(model: Model, knot, idx: np.ndarray) -> bool:

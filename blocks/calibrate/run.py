@@ -37,7 +37,7 @@ from blocks.calibrate.elimination import Removal, try_removals
 from blocks.calibrate.exchange import Exchange, file_name, free_of, try_exchanges
 from blocks.calibrate.experiment import Experiment, Free, display_unit, load_experiment
 from blocks.calibrate.fit import FitResult, fit
-from blocks.calibrate.heldout import HeldOut, heldout
+from blocks.calibrate.heldout import HeldOut, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.model import Model
 from blocks.calibrate.patch import NetlistDoc
@@ -103,6 +103,10 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     out = Path(out)
     refuse_to_overwrite_inputs(exp, out)
     data = load_data(exp)
+    if with_heldout:
+        scheme, _folds = folds_of(data, exp.spec.heldout)
+        if "(" in scheme:  # not the scheme asked for, or fewer folds than asked
+            say(f"held out: {scheme}")
     cal = Calibration(exp, data, out)
     globals_ = list(exp.free) + latent_globals(exp, data)
     netlist = exp.netlist

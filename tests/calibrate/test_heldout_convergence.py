@@ -37,3 +37,25 @@ def test_a_fold_cut_short_is_continued_to_convergence(tmp_path):
     assert generous.unconverged == [] and continued.unconverged == []
     assert abs(continued.error - generous.error) < 1e-6 * generous.error
     assert abs(final.heldout.error - generous.error) < 1e-3 * generous.error
+
+
+def test_a_scheme_that_cannot_run_as_asked_says_so_on_stderr(tmp_path):
+    """k = 30 folds over 21 points, and leave-one-group-out with no groups, ran as 21-fold and as k-fold; the
+    report said so, the terminal did not."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.heldout import folds_of
+
+    data = SimpleNamespace(kind="steady", n=21, groups={"all": list(range(21))}, sources=None)
+    scheme, folds = folds_of(data, SimpleNamespace(scheme="kfold", k=30, seed=0))
+    assert scheme == "21-fold over points (k = 30 cut to the 21 points)" and len(folds) == 21
+    scheme, _ = folds_of(data, SimpleNamespace(scheme="leave_one_group_out", k=5, seed=0))
+    assert scheme == "5-fold over points (no groups: leave_one_group_out fell back to kfold)"
+    said = []
+    spec = yaml.safe_load((EXPERIMENTS / "relief_rig_steady.yaml").read_text())
+    spec.update({"netlist": str(EXPERIMENTS / "circuits" / "relief_rig.yaml"),
+                 "data": str(EXPERIMENTS / "data" / "relief_rig_steady.csv"), "heldout": {"scheme": "kfold", "k": 30},
+                 "trace": {"rounds": 1, "only": ["leakage"]}})
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    calibrate(tmp_path / "exp.yaml", tmp_path / "out", progress=said.append, rounds=1)
+    assert said[0] == "held out: 21-fold over points (k = 30 cut to the 21 points)"
