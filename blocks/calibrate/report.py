@@ -250,8 +250,9 @@ def markdown(cal, info: dict) -> str:
         for e in info["effects"]:
             L.append(f"| {e['title']} | {e['where']} | `{e['parameter']}` | {_g(e['value'])} | {_g(e['se'], 2)} | "
                      f"{e['unit']} | {'superseded (within 3 SE of 0)' if e['superseded'] else 'over 3 SE from 0'} |")
-        L += ["", "Sensor corrections (offset, gain) act on the logged signal in post-processing, not in the netlist; "
-                  "they are written to `experiment_augmented.yaml` under `corrections:`."]
+        if any(e["key"].split("@")[0] in ("sensor_offset", "sensor_gain") for e in info["effects"]):
+            L += ["", "Sensor corrections (offset, gain) act on the logged signal in post-processing, not in the "
+                      "netlist; they are written to `experiment_augmented.yaml` under `corrections:`."]
     else:
         L.append("None accepted.")
     L += ["", "## Parameters: how they moved", "",
@@ -259,6 +260,9 @@ def markdown(cal, info: dict) -> str:
     for p in info["parameters"]:
         L.append(f"| `{p['name']}` | {p['kind']} | {p['unit']} | {_g(p['start'])} | {_g(p['declared_fit'])} | "
                  f"{_g(p['declared_se'], 2)} | {_g(p['final'])} | {_g(p['final_se'], 2)} |")
+    if cal.exp.spec.drift and not info["drift"]:
+        L += ["", f"Drift of {', '.join(cal.exp.spec.drift)}: not tested (it needs two groups or runs at least; "
+                  f"the data have {len(cal.data.groups)})."]
     if info["drift"]:
         L += ["", "## Drift: parameters refitted per group", ""]
         for name, d in info["drift"].items():
@@ -299,10 +303,11 @@ def markdown(cal, info: dict) -> str:
             L.append(f"| {shown} | {s['candidate']} | {s['where']} | {s['status']} | {score} | "
                      f"{_g(s['p_value'], 2) if s['status'] == 'screened' else '-'} | {_g(s['estimate'], 3)} | "
                      f"{s['unit']} | {100 * s['absorbed']:.1f} % | {s['note']} |")
-        L += ["", "Refitted (ranked by BIC):", "",
+        L += ["", "Refitted (ranked by BIC):", ""] + ([
               "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | held-out score | accepted "
               "| why not |",
-              "|---|---|---|---|---|---|---|---|---|---|"]
+              "|---|---|---|---|---|---|---|---|---|---|"] if r["refits"] else [
+              "None: no candidate's score T is over 3.84 (p < 5 %)." if not r["stopped"] else "None: the trace stopped."])
         for f in r["refits"]:
             dbic = _g(f["dbic"], 4) + ("" if f["converged"] else " (refit stopped at its evaluation limit: an upper "
                                                                  "bound)")

@@ -86,6 +86,7 @@ def test_steady_flow_force_is_found_and_the_stiffness_stops_drifting(tmp_path, c
     # chi^2, three structure tests and the drift of k_s: each held at 0.01 / 5 (Bonferroni)
     assert min(c["structure_after"]["p_value"] for c in structure.values()) > 0.01 / 5
     assert "Residuals against the fitted value" in (out / "report.md").read_text()
+    assert "Sensor corrections" not in (out / "report.md").read_text()  # none was found
     # the augmented netlist is a real file with the effect at its fitted value
     augmented = Path(report["rounds"][0]["augmented_netlist"])
     doc = yaml.safe_load(augmented.read_text())
@@ -113,6 +114,8 @@ def test_steady_null_case_claims_nothing(tmp_path):
     assert cal.accepted == [] and not cal.unexplained
     assert cal.verdict[-1] == "no effect found: the declared model fits to the noise"
     assert len(cal.rounds) == 1 and cal.rounds[0].augmented_file is None
+    text = markdown(cal, build(cal))  # no empty table where nothing was refitted
+    assert not cal.rounds[0].decision.refits and "None: no candidate's score T is over 3.84" in text
 
 
 def test_time_series_coulomb_friction_is_found(tmp_path):
@@ -268,3 +271,16 @@ def test_a_screening_netlist_that_does_not_reproduce_the_fit_stops_the_trace(tmp
             "by up to 1e+03 sigma), so no candidate is judged on it: check the solver settings") in cal.verdict
     text = markdown(cal, build(cal))
     assert "**does not reproduce the fit**" in text and "1e+03 sigma" in text
+
+
+def test_a_drift_that_cannot_be_tested_is_said_so(tmp_path):
+    """drift: [k_s] with the points of one crack setting: the drift section used to vanish without a word."""
+    exp = steady_case(tmp_path, 0.0, seed=6, only=["leakage"])
+    data = tmp_path / "data.csv"
+    lines = data.read_text().splitlines()
+    data.write_text("\n".join([lines[0]] + [line for line in lines[1:] if line.startswith("1,")]) + "\n")
+    spec = yaml.safe_load(exp.read_text())
+    spec["groups"] = {"1": spec["groups"]["1"]}
+    exp.write_text(yaml.safe_dump(spec, sort_keys=False))
+    cal = calibrate(exp, tmp_path / "out", rounds=1, with_heldout=False)
+    assert "Drift of k_s: not tested (it needs two groups or runs at least; the data have 1)." in markdown(cal, build(cal))
