@@ -191,6 +191,31 @@ def _parse_atom(tokens, pos, text):
     raise UnitError(f"unexpected '{tok}' in unit '{text}'")
 
 
+_NAMED = (("m", "a length"), ("m/s", "a velocity"), ("Pa", "a pressure"), ("rad", "an angle"),
+          ("rad/s", "an angular velocity"), ("N", "a force"), ("N*m", "a torque (or energy)"), ("m^3/s", "a flow"),
+          ("s", "a time"), ("kg", "a mass"), ("m^3", "a volume"), ("m^2", "an area"), ("m^3/rad", "a displacement"),
+          ("K", "a temperature"), ("A", "a current"), ("W", "a power"))
+
+
+def si_name(dims: Unit) -> str:
+    """'m', 'Pa', 'm^3/s'... for the SI unit of a dimension, or its base-unit description ("1": a plain number)."""
+    for name, _ in _NAMED:
+        unit = parse_unit(name)
+        if unit.same_dimension(dims):
+            return name
+    return dims.describe_dims()
+
+
+def quantity_name(dims: Unit) -> str:
+    """What a dimension is, for messages: 'a pressure', 'a flow', 'a plain number', else 'a quantity in kg*m^-3'."""
+    if dims.same_dimension(_ONE):
+        return "a plain number"
+    for name, what in _NAMED:
+        if parse_unit(name).same_dimension(dims):
+            return what
+    return f"a quantity in {dims.describe_dims()}"
+
+
 def nearest(name: str, choices, n: int = 3) -> list[str]:
     """The closest names to ``name`` among ``choices`` (for 'did you mean' hints), ignoring case first."""
     import difflib

@@ -32,9 +32,9 @@ from pathlib import Path
 
 import numpy as np
 
-from blocks.calibrate.experiment import Experiment
+from blocks.calibrate.experiment import Experiment, described, unit_problem
 from blocks.datafile import DataFileError, Table, read_table
-from blocks.units import parse_unit
+from blocks.units import parse_unit, si_name, split_quantity
 
 
 @dataclass
@@ -134,17 +134,9 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
         bad = np.nonzero(~np.isfinite(values))[0]
         if bad.size:
             raise table.error("empty cell in a compared or imposed column", ch.name, int(bad[0]))
-        if ch.si_unit not in ("", "1", "SI"):
-            if not parse_unit(table.units[ch.name]).same_dimension(parse_unit(ch.si_unit)):
-                given = table.units[ch.name]
-                raise table.error(f"dimensionless (no unit in brackets?), but '{ch.name}' is in {ch.si_unit}: write "
-                                  f"it as '{ch.name} [<unit>]'" if given == "1" else
-                                  f"unit '{given}' does not fit the signal's {ch.si_unit}", ch.name)
+        _check_unit(exp, table, ch, file)
         if first:
             ch.unit = table.units[ch.name]
-        if ch.si_unit in ("", "SI"):  # a netlist parameter without declared unit: the data column's dimension
-            dims = parse_unit(ch.unit).describe_dims()
-            ch.si_unit = dims if dims not in ("", "1") else "1"
         measured[ch.name] = values
     t = None
     if kind == "time":
@@ -190,6 +182,34 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
                 raise exp.error((f"{ch.role}s", ch.name, "noise"), f"noise: the second differences of "
                                                                    f"'{ch.name}' are all zero; give the noise")
     return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
+
+
+def _check_unit(exp: Experiment, table: Table, ch, file) -> None:
+    """A channel's column in a unit of the channel's dimension (:func:`blocks.calibrate.experiment.unit_problem`:
+    the netlist's, for inputs and outputs alike); a column without unit only for a dimensionless channel.
+    Where the netlist does not give the dimension (``ch.si_unit`` "", :func:`~blocks.calibrate.experiment.
+    channel_unit`) the first file's column gives it, and the given noise is checked against that."""
+    given = table.units[ch.name]
+    if ch.si_unit in ("", "SI"):
+        ch.si_unit = si_name(parse_unit(given))
+        raw = (exp.spec.inputs if ch.role == "input" else exp.spec.outputs)[ch.name].noise
+        if ch.noise_method == "given" and isinstance(raw, str) and split_quantity(raw)[1]:
+            problem = unit_problem(split_quantity(raw)[1], ch, ch.name,
+                                   f"in the column '{table.header(ch.name)}' of {Path(file).name}")
+            if problem:
+                raise exp.error((f"{ch.role}s", ch.name, "noise"),
+                                f"{ch.role}s.{ch.name}.noise: wrong unit: '{raw}' is {problem}")
+        return
+    problem = unit_problem(given, ch)
+    if problem is None:
+        return
+    if given != "1":
+        raise table.error(problem, ch.name)
+    if ch.role == "output":
+        raise table.error(f"dimensionless (no unit in brackets?), but '{ch.name}' is in {ch.si_unit}: write it as "
+                          f"'{ch.name} [<unit>]'", ch.name)
+    raise table.error(f"dimensionless (no unit in brackets?), but it is {ch.place}, {described(ch.si_unit)}: write "
+                      f"it as '{ch.name} [<unit>]'", ch.name)
 
 
 def _join_runs(exp: Experiment, parts: list[Dataset], files: list) -> Dataset:

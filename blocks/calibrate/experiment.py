@@ -31,7 +31,11 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     trace: {rounds: 3, top: 3, exclude: [extra_volume]}
     solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
 
-Errors name the file, line and column (the style of :mod:`blocks.netlist.flatten`). Inputs of steady data
+Errors name the file, line and column (the style of :mod:`blocks.netlist.flatten`). Every measured column,
+imposed or compared, and its noise are in a unit of the dimension the netlist gives the channel
+(:func:`channel_unit`: a flow for ``Q_in: "40 l/min"``, a plain number for a command level ``u1: 0.1``);
+a column of another dimension (``Q [bar]``), without unit (``Q``) or a noise of another dimension
+(``noise: "0.5 bar"``) is an error, not a quantity read as one of the channel's. Inputs of steady data
 are imposed through a netlist parameter per point; inputs of a time series are logged signals of the
 netlist (e.g. a command profile) whose levels are the netlist parameters listed under ``latent``: the true
 input is latent in both cases (errors-in-variables, :mod:`blocks.calibrate.model`).
@@ -57,7 +61,8 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key
-from blocks.units import UnitError, display_factor, nearest, parse_unit, quantity, split_quantity
+from blocks.units import (GENERIC, UnitError, display_factor, nearest, parse_unit, quantity, quantity_name, si_name,
+                          split_quantity)
 
 Value = Union[float, int, str]
 
@@ -144,8 +149,17 @@ class Channel:
     noise: float | None  # SI; None: estimated from the data (``noise_method``)
     noise_method: str  # "given", "repeats" or "diff"
     unit: str = ""  # the data column's unit (for reports)
-    si_unit: str = ""
+    si_unit: str = ""  # the SI unit of its dimension ("1": dimensionless; "": not known, see channel_unit)
     trace: str | None = None  # latent: trace: the profile's values parameter that reads this column
+
+    @property
+    def place(self) -> str:
+        """What the column is in the circuit, for messages: 'imposed as Q_in', 'compared with the signal p1'."""
+        if self.role == "output":
+            return f"compared with the signal {self.signal}"
+        if self.parameter is not None:
+            return f"imposed as {self.parameter}"
+        return f"imposed as the signal {self.signal}" + (f" (levels {', '.join(self.latent)})" if self.latent else "")
 
 
 @dataclass
@@ -303,22 +317,18 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 param_name(lat, path + ("latent", k))
             if role == "output" and (ch.parameter or ch.latent):
                 raise located.error(path, f"outputs.{name}: an output takes 'signal' and 'noise' only")
-            si_unit = signals[ch.signal].unit if ch.signal is not None else (entries[ch.parameter].unit or "")
-            method, noise = "given", None
+            channel = Channel(name, role, ch.signal, ch.parameter, levels, None, "given",
+                              si_unit=channel_unit(ch, levels, circuit.flat.parameters, signals))
             if isinstance(ch.noise, str) and ch.noise.strip() in ("repeats", "diff"):
-                method = ch.noise.strip()
+                channel.noise_method = ch.noise.strip()
             else:
-                if si_unit not in ("", "1", "SI") and not isinstance(ch.noise, str):
-                    raise located.error(path + ("noise",), f"{role}s.{name}.noise: {ch.noise} has no unit; write it "
-                                        f"with one (e.g. \"{ch.noise} {'bar' if si_unit == 'Pa' else si_unit}\"): a "
-                                        f"bare number would be read in SI, as {ch.noise} {si_unit}")
                 try:
-                    noise = quantity(ch.noise, si_unit) if si_unit not in ("", "1", "SI") else _free_si(ch.noise)
+                    channel.noise = noise_si(ch.noise, channel)
                 except UnitError as exc:
                     raise located.error(path + ("noise",), f"{role}s.{name}.noise: {exc}") from None
-                if not noise > 0:
+                if not channel.noise > 0:
                     raise located.error(path + ("noise",), f"{role}s.{name}.noise must be positive")
-            channels.append(Channel(name, role, ch.signal, ch.parameter, levels, noise, method, si_unit=si_unit))
+            channels.append(channel)
     if not any(c.role == "output" for c in channels):
         raise located.error(("outputs",), "outputs: at least one compared column is needed")
 
@@ -477,6 +487,72 @@ def _free_si(raw) -> float:
         return float(raw)
     number, unit = split_quantity(str(raw))
     return number * (parse_unit(unit).factor if unit else 1.0)
+
+
+def channel_unit(ch: ChannelSpec, levels: list[str], table, signals: dict) -> str:
+    """The SI unit of the dimension a measured column and its noise must have, as the netlist gives it
+    ("1": dimensionless); "" where the netlist does not say, and the data column's unit decides
+    (:func:`blocks.calibrate.data._load_file`; the noise is then checked against the column).
+
+    - an output, or an input imposed through a logged signal: the signal's unit; for a generic signal block
+      (SI of any unit) the unit the netlist logs it in (``x: {of: travel.y, unit: mm}``), else the dimension
+      of its latent levels (``cmd: {signal: cmd, latent: [u1, u2]}`` with ``u1: 0.1``: dimensionless); not
+      known for ``latent: trace`` (the netlist reads the data column itself, in the column's unit) or levels
+      of no known dimension;
+    - an input imposed through a parameter: :meth:`blocks.netlist.parameters.ParameterTable.dimension` (its
+      declared unit, the unit its value is written in, or for a bare number the places it is put:
+      ``Q_in: "40 l/min"`` and ``Q_in: 6.7e-4`` put as a flow source's ``q`` are flows, ``u1: 0.1`` put in
+      a profile's values is dimensionless); not known for a bare number only read inside expressions."""
+    if ch.signal is not None:
+        signal = signals[ch.signal]
+        for text in (signal.unit, signal.display_unit):
+            if text not in ("", None, GENERIC):
+                return si_name(parse_unit(text))
+        found = [table.dimension(level) for level in levels]
+        if not found or any(d is None for d in found) or any(not d.same_dimension(found[0]) for d in found):
+            return ""
+        return si_name(found[0])
+    dims = table.dimension(ch.parameter)
+    return "" if dims is None else si_name(dims)
+
+
+def unit_problem(unit_text: str, channel: Channel, subject: str = "it", place: str | None = None) -> str | None:
+    """Why a value in ``unit_text`` (a data column's unit, a noise level's) cannot be one of ``channel``:
+    'a pressure, but it is imposed as Q_in, a flow (m^3/s)'; None if it can or the dimension is not known
+    (``channel.si_unit`` ""). Outputs and inputs alike: a column or noise in a unit of another dimension would
+    be read as a quantity of the channel's (a pressure in bar taken for a flow in l/min)."""
+    if channel.si_unit in ("", GENERIC):
+        return None
+    given, expected = parse_unit(unit_text or "1"), parse_unit(channel.si_unit)
+    if given.same_dimension(expected):
+        return None
+    return f"{quantity_name(given)}, but {subject} is {place or channel.place}, {described(channel.si_unit)}"
+
+
+def described(si_unit: str) -> str:
+    """'a flow (m^3/s)', 'a plain number (dimensionless)'."""
+    dims = parse_unit(si_unit)
+    return f"{quantity_name(dims)} ({'dimensionless' if si_unit == '1' else si_unit})"
+
+
+def noise_si(raw, channel: Channel) -> float:
+    """A given noise level in SI. Its unit must fit the channel's dimension (:func:`unit_problem`; not
+    checked where it is not known, ``si_unit`` "": then against the data column, in
+    :mod:`blocks.calibrate.data`), and a dimensioned channel's noise needs a unit (a bare number would be
+    read in SI, 0.2 as 0.2 Pa)."""
+    if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+        raise UnitError(f"expected a number or a '<number> <unit>' string, got {raw!r}")
+    number, unit_text = (float(raw), "") if not isinstance(raw, str) else split_quantity(raw)
+    if not unit_text:
+        if channel.si_unit not in ("", "1", GENERIC):
+            example = "bar" if channel.si_unit == "Pa" else channel.si_unit
+            raise UnitError(f"{raw} has no unit; write it with one (e.g. \"{raw} {example}\"): a bare number "
+                            f"would be read in SI, as {raw} {channel.si_unit}")
+        return number
+    problem = unit_problem(unit_text, channel, channel.name)
+    if problem:
+        raise UnitError(f"wrong unit: '{raw}' is {problem}")
+    return number * parse_unit(unit_text).factor
 
 
 def value_si(raw, entry) -> float:

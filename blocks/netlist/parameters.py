@@ -71,6 +71,7 @@ class Entry:
 class ParameterTable:
     entries: dict[str, Entry] = field(default_factory=dict)
     _order: list[str] | None = None
+    _dims: dict[str, Unit | None] = field(default_factory=dict)  # each name's dimension (order(); FREE: a number)
 
     def add(self, entry: Entry) -> None:
         if entry.name in self.entries:
@@ -127,6 +128,48 @@ class ParameterTable:
                     dims = declared
             generic = entry.unit is None or entry.unit == GENERIC
             inferred[name] = dims if generic else (parse_unit(entry.unit) if dims is not FREE else FREE)
+        self._dims = inferred
+
+    def dimension(self, name: str) -> Unit | None:
+        """The dimension the netlist gives ``name``, None where it does not say.
+
+        In this order: the declared unit of a component parameter (``pump.q``: m^3/s); the unit its value is
+        written in, or its expression's (``Q_in: "40 l/min"``, ``Q_in: "2*Q_nom"``); for a bare number (free:
+        the SI value of whatever its place needs) the declared unit of the places it is put as it stands
+        (``q: Q_in`` or ``q: -Q_in``, through other netlist parameters that are it under another name). A bare
+        number put only where any unit goes (a generic signal block's SI parameter, a profile's ``values``)
+        or nowhere is a number written without unit: dimensionless. None (not known) for a bare number read
+        inside an expression and in no place of declared unit: a free number adapts there
+        (``J: "0.085 + m*r**2/n**2"``) and its dimension would have to be solved for; or for one put in
+        places of different dimensions."""
+        entry = self.entries[name]
+        if entry.unit not in (None, GENERIC):
+            return parse_unit(entry.unit)
+        self.order()
+        dims = self._dims.get(name, FREE)
+        return dims if dims is not FREE else self._dimension_from_places(name)
+
+    def _dimension_from_places(self, name: str) -> Unit | None:
+        fixed, adapts = [], False
+        for reader in self.entries.values():
+            items = [reader.expression] if reader.expression is not None else \
+                [item for item in reader.elements or () if isinstance(item, Expression)]
+            for item in items:
+                if not any(reader.scope.get(local) == name for local in item.names):
+                    continue
+                if reader.scope.get(_sole_name(item.tree, reader)) != name:
+                    adapts = True  # read inside an expression
+                elif reader.unit == GENERIC:
+                    continue  # a place of any unit
+                elif reader.unit is not None:
+                    fixed.append(parse_unit(reader.unit))
+                else:  # a netlist parameter that is this one under another name
+                    dims = self.dimension(reader.name)
+                    adapts = adapts or dims is None
+                    fixed += [dims] if dims is not None else []
+        if fixed:
+            return fixed[0] if all(f.same_dimension(fixed[0]) for f in fixed) else None
+        return None if adapts else parse_unit("1")
 
     def evaluate(self, overrides: dict[str, float] | None = None) -> dict[str, float | tuple]:
         """All values in SI; ``overrides`` replace named values (and so everything that depends on them)."""
@@ -165,6 +208,17 @@ class ParameterTable:
                     raise entry.error(f"{entry.name.rsplit('.', 1)[0]}: {problem}")
             values[name] = value
         return values
+
+
+def _sole_name(node: ast.AST, entry: Entry) -> str | None:
+    """The local name an expression is, as it stands or negated (``Q_in``, ``-Q_in``, ``supply.p``); else None."""
+    while isinstance(node, ast.UnaryOp) and isinstance(node.op, (ast.USub, ast.UAdd)):
+        node = node.operand
+    if isinstance(node, ast.Name):
+        return node.id
+    if isinstance(node, ast.Attribute):
+        return dotted_name(node, entry.written)
+    return None
 
 
 def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):

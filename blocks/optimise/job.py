@@ -59,7 +59,7 @@ from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
-from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, split_quantity
+from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, si_name, split_quantity
 
 Value = Union[float, int, str]
 
@@ -311,15 +311,6 @@ def _dimension(output):
     return None
 
 
-def _si_name(dims) -> str:
-    """'m', 'Pa', 'm/s'... for the SI unit of a dimension, or its base-unit description."""
-    for name in ("m", "m/s", "Pa", "rad", "rad/s", "N", "N*m", "m^3/s", "s", "kg"):
-        unit = parse_unit(name)
-        if unit.same_dimension(dims) and unit.factor == 1.0:
-            return name
-    return dims.describe_dims()
-
-
 def _si(raw, dims) -> float:
     """A number (SI) or '<number> <unit>' (its dimension checked against ``dims`` if known) in SI."""
     if isinstance(raw, (int, float)) and not isinstance(raw, bool):
@@ -466,7 +457,7 @@ class _Resolver:
                                  f"which is in {dims.describe_dims()}")
             scale = parsed.factor
         elif dims is not None:
-            unit = _si_name(dims)
+            unit = si_name(dims)
         reference, offset = None, 0.0
         if t.kind == "hp_ise":
             if t.reference is not None:

@@ -188,3 +188,113 @@ def test_a_scalar_where_a_mapping_belongs_names_the_keys_not_a_class(tmp_path, c
     code, err, path = run(tmp_path, capsys, changed(**{"free": {"k_s": "50 bar"}}))
     assert code == 2
     assert err.endswith(": free.k_s: expected a mapping with keys initial, lower, upper, step, got str '50 bar'"), err
+
+
+# ---------------------------------------------------------------- imposed inputs in the netlist's dimension
+# A column or noise of another dimension would be read as a quantity of the input's: 'Q [bar]' imposed as a
+# flow ran to chi^2/nu = 1e6 with exit 0. The dimension comes from the netlist (Q_in: "40 l/min" is a flow;
+# u1: 0.1 in a profile's values is a plain number), for inputs as for outputs.
+def test_a_column_of_another_dimension_is_refused_at_its_header_cell(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, GOOD, data="setting,Q [bar],p1 [bar]\n1,20,40\n1,40,50\n")
+    assert code == 2 and len(err.splitlines()) == 1 and re.search(
+        r"data\.csv:1:2: column 'Q \[bar\]': a pressure, but it is imposed as Q_in, a flow \(m\^3/s\)$", err), err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_dimensioned_input_column_needs_its_unit(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, GOOD, data="setting,Q,p1 [bar]\n1,20,40\n1,40,50\n")
+    assert code == 2 and len(err.splitlines()) == 1 and re.search(
+        r"data\.csv:1:2: column 'Q \[1\]': dimensionless \(no unit in brackets\?\), but it is imposed as Q_in, "
+        r"a flow \(m\^3/s\): write it as 'Q \[<unit>\]'", err), err
+
+
+INPUT_NOISE = {
+    "steady input noise of another dimension": (
+        changed(**{"inputs": {"Q": {"parameter": "Q_in", "noise": "0.5 bar"}}}),
+        r"inputs\.Q\.noise: wrong unit: '0\.5 bar' is a pressure, but Q is imposed as Q_in, a flow \(m\^3/s\)$"),
+    "steady input noise without unit": (
+        changed(**{"inputs": {"Q": {"parameter": "Q_in", "noise": 0.5}}}),
+        r"inputs\.Q\.noise: 0\.5 has no unit; .* read in SI, as 0\.5 m\^3/s"),
+    "dimensionless output noise in a unit": (
+        changed(**{"outputs": {"p1": {"signal": "p1", "noise": "0.2 bar"}, "u": {"signal": "u", "noise": "0.1 mm"}}}),
+        r"outputs\.u\.noise: wrong unit: '0\.1 mm' is a length, but u is compared with the signal u, a plain "
+        r"number \(dimensionless\)"),
+    "time-series input noise of another dimension": (
+        dict(yaml.safe_load(yaml.safe_dump(SERIES)), inputs={"cmd": {"signal": "cmd", "latent": ["u1"],
+                                                                     "noise": "0.01 bar"}}),
+        r"inputs\.cmd\.noise: wrong unit: '0\.01 bar' is a pressure, but cmd is imposed as the signal cmd "
+        r"\(levels u1\), a plain number \(dimensionless\)"),
+}
+
+
+@pytest.mark.parametrize("name", list(INPUT_NOISE))
+def test_noise_of_another_dimension_is_refused_at_the_noise(tmp_path, capsys, name):
+    spec, pattern = INPUT_NOISE[name]
+    series = "t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n"
+    code, err, path = run(tmp_path, capsys, spec, data=series if "cmd" in spec["inputs"] else DATA)
+    assert code == 2 and len(err.splitlines()) == 1 and "Traceback" not in err, err
+    assert re.search(rf"{re.escape(str(path))}:\d+:\d+: {pattern}", err), err  # at the noise: key
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_time_series_input_column_of_another_dimension_is_refused(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, SERIES, data="t [s],cmd [bar],pA [bar]\n0,0,20\n0.1,0,20\n")
+    assert code == 2 and re.search(r"data\.csv:1:2: column 'cmd \[bar\]': a pressure, but it is imposed as the "
+                                   r"signal cmd \(levels u1\), a plain number \(dimensionless\)$", err), err
+
+
+def test_a_dimensionless_output_column_in_a_unit_is_refused(tmp_path, capsys):
+    spec = changed(**{"outputs": {"p1": {"signal": "p1", "noise": "0.2 bar"}, "u": {"signal": "u", "noise": 0.01}}})
+    code, err, _ = run(tmp_path, capsys, spec, data="setting,Q [l/min],p1 [bar],u [mm]\n1,20,40,1\n1,40,50,2\n")
+    assert code == 2 and re.search(r"data\.csv:1:4: column 'u \[mm\]': a length, but it is compared with the "
+                                   r"signal u, a plain number \(dimensionless\)$", err), err
+
+
+def _rig_with(tmp_path, old: str, new: str) -> str:
+    text = RIG.read_text()
+    assert old in text
+    path = tmp_path / "rig.yaml"
+    path.write_text(text.replace(old, new))
+    return str(path)
+
+
+def test_a_bare_number_takes_the_dimension_of_its_place(tmp_path, capsys):
+    """Q_in: 6.7e-4 (SI, no unit) put as the flow source's q is a flow: 'Q [bar]' is refused."""
+    spec = changed(netlist=_rig_with(tmp_path, 'Q_in: "40 l/min"', "Q_in: 6.7e-4"))
+    code, err, _ = run(tmp_path, capsys, spec, data="setting,Q [bar],p1 [bar]\n1,20,40\n1,40,50\n")
+    assert code == 2 and re.search(r"column 'Q \[bar\]': a pressure, but it is imposed as Q_in, a flow", err), err
+
+
+def test_where_the_netlist_does_not_say_the_column_decides_and_the_noise_must_fit_it(tmp_path, capsys):
+    """Q_in: 6.7e-4 read only inside an expression (q: "1.0*Q_in") has no dimension of its own (a free number
+    adapts there): any column unit is taken, but the noise must then be in the column's dimension."""
+    netlist = _rig_with(tmp_path, 'Q_in: "40 l/min"', "Q_in: 6.7e-4")
+    Path(netlist).write_text(Path(netlist).read_text().replace("q: Q_in", 'q: "1.0*Q_in"'))
+    spec = changed(netlist=netlist, **{"inputs": {"Q": {"parameter": "Q_in", "noise": "0.5 bar"}}})
+    code, err, path = run(tmp_path, capsys, spec)
+    assert code == 2 and len(err.splitlines()) == 1 and re.search(
+        rf"{re.escape(str(path))}:\d+:\d+: inputs\.Q\.noise: wrong unit: '0\.5 bar' is a pressure, but Q is in the "
+        rf"column 'Q \[l/min\]' of data\.csv, a flow \(m\^3/s\)$", err), err
+
+
+def test_correct_files_still_load_with_the_inputs_dimension_known(tmp_path):
+    from blocks.calibrate.data import load_data
+    from blocks.calibrate.experiment import load_experiment
+    from blocks.units import parse_unit
+
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(GOOD))
+    exp = load_experiment(tmp_path / "exp.yaml")
+    q = exp.inputs[0]
+    assert q.si_unit and parse_unit(q.si_unit).same_dimension(parse_unit("l/min"))  # from the netlist, not the data
+    data = load_data(exp)
+    assert data.measured["Q"] == pytest.approx([20 / 60e3, 40 / 60e3]) and q.noise == pytest.approx(0.5 / 60e3)
+    shipped = sorted((ROOT / "netlists" / "experiments").glob("*.yaml"))
+    assert len(shipped) >= 3
+    for file in shipped:
+        named = yaml.safe_load(file.read_text())["data"]
+        if not all((file.parent / name).exists() for name in ([named] if isinstance(named, str) else named)):
+            continue  # the thesis's data live beside the repository (../shared)
+        exp = load_experiment(file)
+        assert all(ch.si_unit for ch in exp.channels), (file, [(ch.name, ch.si_unit) for ch in exp.channels])
+        load_data(exp)
