@@ -6,15 +6,18 @@ A second run into the same folder used to leave the first run's round files besi
 augmented netlist with an effect the new report says was not found), and an interrupted run left a new
 report.json beside the old report.md. So, around a run (:func:`replacing`):
 
-  - the entries of the folder that a calibration writes (:data:`OWNED`) are moved aside into
-    ``<folder>/.previous`` (renames within one folder: nothing is copied); the run writes into a folder
-    without them;
-  - when the run and its report are written, ``.previous`` is deleted;
+  - the entries of the folder that a calibration writes (:data:`OWNED`) are moved into ``.previous.partial``
+    (renames within one folder: nothing is copied), which is renamed ``.previous`` once all are in; the run
+    writes into a folder without them;
+  - when the run and its report are written, ``.previous`` is renamed ``.discard`` and deleted;
   - when the run fails or is interrupted, the entries it wrote are deleted and the previous ones moved back
-    (a folder the run created is removed again);
-  - a run killed outright leaves ``.previous`` behind: the next run moves it back first, as if the killed run
-    had failed.
+    (a folder the run created is removed again); if it stops while the entries are being moved aside, they
+    are moved back and nothing is deleted.
 
+Every step leaves a state the next run can read, so a run killed outright (no chance to clean up) is undone
+by the next one before it starts: a ``.discard`` is deleted (the run had finished); a ``.previous.partial``
+is moved back whole (it stopped while moving aside: the folder holds the rest of the previous output); a
+``.previous`` is restored (it stopped during the run: what the folder holds is that run's, unfinished).
 Anything else in the folder (a user's notes) is never moved or deleted.
 """
 
@@ -28,6 +31,8 @@ from pathlib import Path
 from blocks.errors import VphsError
 
 PREVIOUS = ".previous"
+MOVING = ".previous.partial"
+DISCARD = ".discard"
 OWNED = re.compile(r"(report\.(json|md)|residuals\.png|latent_trace\.png|experiment_augmented\.yaml"
                    r"|exchange|elimination|round\d+)")
 
@@ -44,15 +49,37 @@ def _remove(path: Path) -> None:
         path.unlink()
 
 
+def _move_back(aside: Path, folder: Path) -> None:
+    """Move every entry of ``aside`` back into ``folder`` and remove ``aside``."""
+    for path in aside.iterdir():
+        path.rename(folder / path.name)
+    aside.rmdir()
+
+
 def _restore(folder: Path) -> None:
-    """Delete the owned entries of ``folder`` and move those in its ``.previous`` back."""
-    aside = folder / PREVIOUS
+    """Delete the owned entries of ``folder`` (a run's, unfinished) and move those in ``.previous`` back, by
+    way of ``.previous.partial``: a restore cut short in the deleting is done again, in the moving back it is
+    finished by moving the rest back (nothing deleted: what the folder then holds is the previous output)."""
     for path in owned(folder):
         _remove(path)
-    if aside.is_dir():
-        for path in aside.iterdir():
-            path.rename(folder / path.name)
-        aside.rmdir()
+    if (folder / PREVIOUS).is_dir():
+        (folder / PREVIOUS).rename(folder / MOVING)
+        _move_back(folder / MOVING, folder)
+
+
+def _recover(folder: Path) -> None:
+    """Undo what a run killed outright left behind (module docstring)."""
+    for name in (PREVIOUS, MOVING, DISCARD):
+        path = folder / name
+        if path.is_symlink() or (path.exists() and not path.is_dir()):
+            raise VphsError(f"output folder {folder}: {path.name} is not a folder of vphs calibrate's; move it "
+                            f"away or give another folder (-o)")
+    if (folder / DISCARD).is_dir():
+        shutil.rmtree(folder / DISCARD)
+    if (folder / MOVING).is_dir():
+        _move_back(folder / MOVING, folder)
+    if (folder / PREVIOUS).is_dir():
+        _restore(folder)
 
 
 def _make(folder: Path) -> bool:
@@ -72,20 +99,26 @@ def replacing(folder: Path):
     only if it ends normally (module docstring)."""
     folder = Path(folder)
     created = _make(folder)
-    aside = folder / PREVIOUS
-    if aside.is_dir():  # a run killed outright: its previous output is the last complete one
-        _restore(folder)
-    previous = owned(folder)
-    if previous:
-        aside.mkdir()
-        for path in previous:
-            path.rename(aside / path.name)
+    _recover(folder)
+    moving = folder / MOVING
+    try:
+        previous = owned(folder)
+        if previous:
+            moving.mkdir()
+            for path in previous:
+                path.rename(moving / path.name)
+            moving.rename(folder / PREVIOUS)
+    except BaseException:
+        if moving.is_dir():
+            _move_back(moving, folder)
+        raise
     try:
         yield folder
     except BaseException:
         _restore(folder)
-        if created and not any(folder.iterdir()):
+        if created and folder.is_dir() and not any(folder.iterdir()):
             folder.rmdir()
         raise
-    if aside.is_dir():
-        shutil.rmtree(aside)
+    if (folder / PREVIOUS).is_dir():
+        (folder / PREVIOUS).rename(folder / DISCARD)
+        shutil.rmtree(folder / DISCARD)

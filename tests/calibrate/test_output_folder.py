@@ -67,6 +67,77 @@ def test_a_run_killed_outright_is_undone_by_the_next(tmp_path):
     assert _contents(tmp_path) == before
 
 
+def _split(folder: Path, aside: str, names: tuple) -> None:
+    (folder / aside).mkdir()
+    for name in names:
+        (folder / name).rename(folder / aside / name)
+
+
+@pytest.mark.parametrize("moved", [(), ("report.md",), ("report.md", "round1", "round2")])
+def test_a_run_killed_while_moving_the_previous_output_aside_loses_none_of_it(tmp_path, moved):
+    """Killed with some entries in .previous.partial, the rest still in the folder (moving aside, or moving
+    back in a restore): the next run moves them back and deletes nothing."""
+    before = _previous_run(tmp_path)
+    _split(tmp_path, output.MOVING, moved)
+    with pytest.raises(VphsError):
+        with replacing(tmp_path):
+            raise VphsError("bad input")
+    assert _contents(tmp_path) == before
+
+
+def test_a_run_killed_while_deleting_the_previous_output_keeps_its_own(tmp_path):
+    """Killed after its report, while deleting the previous output (renamed .discard): the folder holds the
+    finished run's output, which the next run keeps as its previous one."""
+    before = _previous_run(tmp_path)
+    _split(tmp_path, output.DISCARD, ("round2",))  # what was left of the deletion
+    with pytest.raises(VphsError):
+        with replacing(tmp_path):
+            raise VphsError("bad input")
+    assert _contents(tmp_path) == {k: v for k, v in before.items() if not k.startswith("round2")}
+
+
+def test_an_interrupt_while_moving_aside_moves_everything_back(tmp_path, monkeypatch):
+    before = _previous_run(tmp_path)
+    renames = []
+    real = Path.rename
+
+    def interrupted(self, target):
+        renames.append(self.name)
+        if len(renames) == 3:
+            raise KeyboardInterrupt
+        return real(self, target)
+
+    monkeypatch.setattr(Path, "rename", interrupted)
+    with pytest.raises(KeyboardInterrupt):
+        with replacing(tmp_path):
+            pytest.fail("the body must not run")
+    monkeypatch.setattr(Path, "rename", real)
+    assert _contents(tmp_path) == before
+
+
+@pytest.mark.parametrize("kind", ["file", "symlink"])
+def test_a_previous_that_is_not_its_folder_is_bad_input(tmp_path, kind):
+    before = _previous_run(tmp_path)
+    if kind == "file":
+        (tmp_path / PREVIOUS).write_text("not ours")
+    else:
+        (tmp_path / "elsewhere").mkdir()
+        (tmp_path / PREVIOUS).symlink_to(tmp_path / "elsewhere")
+    with pytest.raises(VphsError, match=r"\.previous is not a folder of vphs calibrate's"):
+        with replacing(tmp_path):
+            pytest.fail("the body must not run")
+    assert {k: v for k, v in _contents(tmp_path).items() if k != PREVIOUS} == before
+
+
+def test_a_body_that_removes_the_folder_it_was_given_keeps_its_own_error(tmp_path):
+    import shutil
+
+    with pytest.raises(RuntimeError, match="the real error"):
+        with replacing(tmp_path / "out") as folder:
+            shutil.rmtree(folder)
+            raise RuntimeError("the real error")
+
+
 def test_a_folder_the_run_made_is_removed_when_it_fails(tmp_path):
     with pytest.raises(VphsError):
         with replacing(tmp_path / "new" / "out"):
