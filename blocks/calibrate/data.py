@@ -193,12 +193,18 @@ def _check_unit(exp: Experiment, table: Table, ch, file) -> None:
     if ch.si_unit in ("", "SI"):
         ch.si_unit = si_name(parse_unit(given))
         raw = (exp.spec.inputs if ch.role == "input" else exp.spec.outputs)[ch.name].noise
-        if ch.noise_method == "given" and isinstance(raw, str) and split_quantity(raw)[1]:
-            problem = unit_problem(split_quantity(raw)[1], ch, ch.name,
-                                   f"in the column '{table.header(ch.name)}' of {Path(file).name}")
+        if ch.noise_method != "given":
+            return
+        column = f"in the column '{table.header(ch.name)}' of {Path(file).name}"
+        unit = split_quantity(raw)[1] if isinstance(raw, str) else ""
+        where, label = (f"{ch.role}s", ch.name, "noise"), f"{ch.role}s.{ch.name}.noise"
+        if unit:
+            problem = unit_problem(unit, ch, ch.name, column)
             if problem:
-                raise exp.error((f"{ch.role}s", ch.name, "noise"),
-                                f"{ch.role}s.{ch.name}.noise: wrong unit: '{raw}' is {problem}")
+                raise exp.error(where, f"{label}: wrong unit: '{raw}' is {problem}")
+        elif ch.si_unit != "1":  # read in SI, 0.01 as 0.01 Pa, where the column is in bar
+            raise exp.error(where, f"{label}: {raw} has no unit, but {ch.name} is {column}, {described(ch.si_unit)}: "
+                                   f"write it with one (e.g. \"{raw} {given}\")")
         return
     problem = unit_problem(given, ch)
     if problem is None:

@@ -136,12 +136,12 @@ class ParameterTable:
         In this order: the declared unit of a component parameter (``pump.q``: m^3/s); the unit its value is
         written in, or its expression's (``Q_in: "40 l/min"``, ``Q_in: "2*Q_nom"``); for a bare number (free:
         the SI value of whatever its place needs) the declared unit of the places it is put as it stands
-        (``q: Q_in`` or ``q: -Q_in``, through other netlist parameters that are it under another name). A bare
-        number put only where any unit goes (a generic signal block's SI parameter, a profile's ``values``)
-        or nowhere is a number written without unit: dimensionless. None (not known) for a bare number read
-        inside an expression and in no place of declared unit: a free number adapts there
-        (``J: "0.085 + m*r**2/n**2"``) and its dimension would have to be solved for; or for one put in
-        places of different dimensions."""
+        (``q: Q_in`` or ``q: -Q_in``, through other netlist parameters that are it under another name). None
+        (not known) for a bare number in no place of declared unit: put only where any unit goes (a generic
+        signal block's SI parameter, a profile's ``values``: ``Q_in: 6.7e-4`` driving a constant block that
+        drives a flow source is a flow, ``u1: 0.1`` a plain number), read inside an expression (a free number
+        adapts there, ``J: "0.085 + m*r**2/n**2"``, and its dimension would have to be solved for), or
+        nowhere; and for one put in places of different dimensions."""
         entry = self.entries[name]
         if entry.unit not in (None, GENERIC):
             return parse_unit(entry.unit)
@@ -150,26 +150,23 @@ class ParameterTable:
         return dims if dims is not FREE else self._dimension_from_places(name)
 
     def _dimension_from_places(self, name: str) -> Unit | None:
-        fixed, adapts = [], False
+        """The one dimension of the declared-unit places ``name`` is put as it stands (directly or through
+        netlist parameters that are it under another name); None if there is none, or more than one. Places
+        that say nothing (any unit, inside an expression) are no constraint."""
+        fixed = []
         for reader in self.entries.values():
             items = [reader.expression] if reader.expression is not None else \
                 [item for item in reader.elements or () if isinstance(item, Expression)]
             for item in items:
-                if not any(reader.scope.get(local) == name for local in item.names):
-                    continue
-                if reader.scope.get(_sole_name(item.tree, reader)) != name:
-                    adapts = True  # read inside an expression
-                elif reader.unit == GENERIC:
-                    continue  # a place of any unit
-                elif reader.unit is not None:
+                if not any(reader.scope.get(local) == name for local in item.names) \
+                        or reader.scope.get(_sole_name(item.tree, reader)) != name or reader.unit == GENERIC:
+                    continue  # not read here, read inside an expression, or a place of any unit
+                if reader.unit is not None:
                     fixed.append(parse_unit(reader.unit))
                 else:  # a netlist parameter that is this one under another name
                     dims = self.dimension(reader.name)
-                    adapts = adapts or dims is None
                     fixed += [dims] if dims is not None else []
-        if fixed:
-            return fixed[0] if all(f.same_dimension(fixed[0]) for f in fixed) else None
-        return None if adapts else parse_unit("1")
+        return fixed[0] if fixed and all(f.same_dimension(fixed[0]) for f in fixed) else None
 
     def evaluate(self, overrides: dict[str, float] | None = None) -> dict[str, float | tuple]:
         """All values in SI; ``overrides`` replace named values (and so everything that depends on them)."""

@@ -56,7 +56,12 @@ def test_a_bare_number_in_places_of_two_dimensions_is_not_known(tmp_path):
     assert t.dimension("Q_in") is None
 
 
-def test_a_bare_number_only_where_any_unit_goes_is_dimensionless(tmp_path):
+def test_a_bare_number_only_where_any_unit_goes_is_not_known(tmp_path):
+    """A generic place takes SI of any unit: the number may be a flow there (a constant block driving a
+    flow source's signal) as well as a plain number (a command level). Calling it dimensionless refused
+    a Q [l/min] column imposed as it (found in review)."""
     drive = table(tmp_path, (CIRCUITS / "drive_line_open.yaml").read_text())
-    assert same(drive.dimension("u1"), "1")  # a profile's values (SI of any unit), written without unit
+    assert drive.dimension("u1") is None  # a profile's values (SI of any unit), written without unit
     assert same(drive.dimension("m_load"), "kg")
+    t = table(tmp_path, **{'Q_in: "40 l/min"': "Q_in: 6.7e-4\n  Q_note: Q_in"})  # an alias put nowhere
+    assert same(t.dimension("Q_in"), "m^3/s")  # the flow source's q still says what it is
