@@ -60,6 +60,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
+from blocks.netlist.parameters import ParameterError
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key
 from blocks.units import (GENERIC, UnitError, display_factor, nearest, parse_unit, quantity, quantity_name, si_name,
                           split_quantity)
@@ -615,6 +616,6 @@ def check_values(circuit, overrides: dict[str, float], groups: dict[str, dict[st
     for path, what, values in tries:
         try:
             circuit.vectors(values)
-        except NetlistError as exc:
+        except (NetlistError, ParameterError) as exc:
             raise located.error(path, f"{path[0]}: with the values of {what} the netlist cannot be evaluated: "
                                       f"{exc}") from None

@@ -100,7 +100,9 @@ def folds_of(data, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
             and len(files) >= 2:
         sources = np.array(data.sources)
         if spec.scheme == "leave_one_experiment_out" or spec.k >= len(files):
-            return "leave one experiment out", [(f, np.nonzero(sources == f)[0]) for f in files]
+            cut = f" (k = {spec.k} cut to the {len(files)} data files)" if spec.scheme == "kfold_experiments" \
+                and spec.k > len(files) else ""
+            return f"leave one experiment out{cut}", [(f, np.nonzero(sources == f)[0]) for f in files]
         dealt = np.array_split(np.random.default_rng(spec.seed).permutation(len(files)), spec.k)
         folds = []
         for part in dealt:

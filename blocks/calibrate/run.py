@@ -486,7 +486,10 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines += [f"  what the choice changes: {s}" for s in rnd.decision.depends]
     unexplained = False
     if cal.final is not None:
-        loose = unidentified(cal.final)
+        failure = cal.final.fit.run_failure()
+        if failure:  # such rows hold a penalty, not a residual: say so before any statistic they enter
+            lines.append(f"the final fit's runs fail: {failure}")
+        loose = unidentified(cal.final) if cal.final.fit.failed_rows < cal.final.fit.n else []
         if loose:
             lines.append(f"not identifiable from these data: {', '.join(loose)} (the data do not fix "
                          f"{'it' if len(loose) == 1 else 'them'}: an infinite standard error; the value reported is "
@@ -499,8 +502,8 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
         if reasons:
             unexplained = True
             lines.append("unexplained discrepancy remains: " + "; ".join(reasons))
-            if cal.final.lof.reduced > GROSS_MISFIT:
-                lines.append(f"  the model misses the data by chi^2/nu = {cal.final.lof.reduced:.3g}, far more than "
+            if cal.final.fit.inflation > GROSS_MISFIT:  # over the rows that ran
+                lines.append(f"  the model misses the data by chi^2/nu = {cal.final.fit.inflation:.3g}, far more than "
                              f"an effect of the library leaves unexplained: check the experiment first (units, "
                              f"overrides, the groups' values, which columns are imposed); an effect found on such "
                              f"a fit explains a sliver of the misfit and is not to be read as measured")

@@ -222,8 +222,8 @@ INPUT_NOISE = {
     "time-series input noise of another dimension": (
         dict(yaml.safe_load(yaml.safe_dump(SERIES)), inputs={"cmd": {"signal": "cmd", "latent": ["u1"],
                                                                      "noise": "0.01 bar"}}),
-        r"inputs\.cmd\.noise: wrong unit: '0\.01 bar' is a pressure, but cmd is imposed as the signal cmd "
-        r"\(levels u1\), a plain number \(dimensionless\)"),
+        r"inputs\.cmd\.noise: wrong unit: '0\.01 bar' is a pressure, but cmd is in the column 'cmd \[1\]' of "
+        r"data\.csv, a plain number \(dimensionless\)"),  # levels in a profile's values: the column says
 }
 
 
@@ -237,10 +237,15 @@ def test_noise_of_another_dimension_is_refused_at_the_noise(tmp_path, capsys, na
     assert not (tmp_path / "out").exists()
 
 
-def test_a_time_series_input_column_of_another_dimension_is_refused(tmp_path, capsys):
-    code, err, _ = run(tmp_path, capsys, SERIES, data="t [s],cmd [bar],pA [bar]\n0,0,20\n0.1,0,20\n")
-    assert code == 2 and re.search(r"data\.csv:1:2: column 'cmd \[bar\]': a pressure, but it is imposed as the "
-                                   r"signal cmd \(levels u1\), a plain number \(dimensionless\)$", err), err
+def test_a_bare_noise_on_a_column_with_a_unit_is_refused_where_the_column_decides(tmp_path, capsys):
+    """The levels of a profile take any unit, so the column's unit gives the input's dimension; a noise
+    written as a bare number would then be read in SI (0.01 Pa for a column in bar)."""
+    spec = dict(yaml.safe_load(yaml.safe_dump(SERIES)), inputs={"cmd": {"signal": "cmd", "latent": ["u1"],
+                                                                       "noise": 0.01}})
+    code, err, path = run(tmp_path, capsys, spec, data="t [s],cmd [bar],pA [bar]\n0,0,20\n0.1,0,20\n")
+    assert code == 2 and re.search(rf"{re.escape(str(path))}:\d+:\d+: inputs\.cmd\.noise: 0\.01 has no unit, but "
+                                   r"cmd is in the column 'cmd \[bar\]' of data\.csv, a pressure \(Pa\): write it "
+                                   r"with one \(e\.g\. \"0\.01 bar\"\)$", err), err
 
 
 def test_a_dimensionless_output_column_in_a_unit_is_refused(tmp_path, capsys):
@@ -296,5 +301,12 @@ def test_correct_files_still_load_with_the_inputs_dimension_known(tmp_path):
         if not all((file.parent / name).exists() for name in ([named] if isinstance(named, str) else named)):
             continue  # the thesis's data live beside the repository (../shared)
         exp = load_experiment(file)
+        load_data(exp)  # a command whose levels take any unit gets its dimension from the column
         assert all(ch.si_unit for ch in exp.channels), (file, [(ch.name, ch.si_unit) for ch in exp.channels])
-        load_data(exp)
+
+
+def test_an_override_below_its_parameters_bound_is_located_at_the_override(tmp_path, capsys):
+    code, err, path = run(tmp_path, capsys, changed(overrides={"relief.k_s": "-5 Pa"}))
+    assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: overrides: with the values of overrides "
+                                      r"the netlist cannot be evaluated: override relief\.k_s: k_s = -5 Pa is below "
+                                      r"its lower bound 1 Pa", err), err

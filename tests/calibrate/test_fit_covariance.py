@@ -63,3 +63,18 @@ def test_a_point_whose_run_fails_changes_no_standard_error(spread):
         assert res.failed_rows == int(failing)
         assert np.allclose(res.se, expected, rtol=1e-6), (failing, res.se, expected)
     assert res.chi2 > FAILED_RESIDUAL ** 2  # the penalty stays in chi^2 (and so in BIC)
+
+
+def test_the_slope_of_a_failed_row_is_not_read_as_information():
+    """A perturbed run that did not fail gives the failed row a slope (r - 1e3)/h of about 1e9: no
+    information, but in J^T J it would make both parameters look known to 1e-9."""
+    from blocks.calibrate.fit import summarise
+
+    y = 1.0 + 2.0 * T + 0.5 * np.random.default_rng(4).normal(size=T.size)
+    X = np.column_stack([np.ones_like(T), T])
+    coef, *_ = np.linalg.lstsq(X, y, rcond=None)
+    model = _Line(y, failing=True)
+    r = model.residuals(coef)
+    J = np.vstack([X, np.full(2, 1e9)])
+    res = summarise(model, coef, np.array([True, True]), np.ones(len(r), dtype=bool), r, J)
+    assert np.allclose(res.se, _closed_form_se(y), rtol=1e-6)

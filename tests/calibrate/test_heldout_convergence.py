@@ -51,6 +51,10 @@ def test_a_scheme_that_cannot_run_as_asked_says_so_on_stderr(tmp_path):
     assert scheme == "21-fold over points (k = 30 cut to the 21 points)" and len(folds) == 21
     scheme, _ = folds_of(data, SimpleNamespace(scheme="leave_one_group_out", k=5, seed=0))
     assert scheme == "5-fold over points (no groups: leave_one_group_out fell back to kfold)"
+    files = SimpleNamespace(kind="steady", n=6, groups={"all": list(range(6))}, sources=["a", "a", "b", "b", "c", "c"])
+    scheme, folds = folds_of(files, SimpleNamespace(scheme="kfold_experiments", k=5, seed=0))
+    assert scheme == "leave one experiment out (k = 5 cut to the 3 data files)" and len(folds) == 3
+    assert folds_of(files, SimpleNamespace(scheme="kfold_experiments", k=3, seed=0))[0] == "leave one experiment out"
     said = []
     spec = yaml.safe_load((EXPERIMENTS / "relief_rig_steady.yaml").read_text())
     spec.update({"netlist": str(EXPERIMENTS / "circuits" / "relief_rig.yaml"),

@@ -177,7 +177,8 @@ def test_a_final_fit_that_did_not_converge_is_in_the_verdict():
 
     from blocks.calibrate.run import verdict
 
-    final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60), lof=SimpleNamespace(significant=lambda: []),
+    final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60, failed_rows=0, n=10, run_failure=lambda: ""),
+                            lof=SimpleNamespace(significant=lambda: []),
                             model=SimpleNamespace(layout=SimpleNamespace(globals=[])))
     lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
     assert lines[0] == "the final fit stopped at its limit of 60 evaluations before converging: its values may " \
@@ -221,8 +222,9 @@ def test_a_gross_misfit_asks_to_check_the_experiment_before_the_effects(reduced)
 
     from blocks.calibrate.run import verdict
 
-    final = SimpleNamespace(fit=SimpleNamespace(converged=True),
-                            lof=SimpleNamespace(reduced=reduced, significant=lambda: [f"chi^2/nu = {reduced:.3g}"]),
+    final = SimpleNamespace(fit=SimpleNamespace(converged=True, inflation=reduced, failed_rows=0, n=63,
+                                                run_failure=lambda: ""),
+                            lof=SimpleNamespace(significant=lambda: [f"chi^2/nu = {reduced:.3g}"]),
                             model=SimpleNamespace(layout=SimpleNamespace(globals=[])))
     cal = SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], exp=SimpleNamespace(exact_columns=[]),
                           accepted=[("line_loss_laminar@relief.b", "laminar line loss", "at relief.b",
@@ -234,6 +236,39 @@ def test_a_gross_misfit_asks_to_check_the_experiment_before_the_effects(reduced)
         "  the model misses the data by chi^2/nu = 3.56e+05, far more than an effect of the library leaves "
         "unexplained: check the experiment first (units, overrides, the groups' values, which columns are imposed); "
         "an effect found on such a fit explains a sliver of the misfit and is not to be read as measured"])
+
+
+def test_failed_runs_are_named_in_the_verdict_not_read_as_a_gross_misfit():
+    """One of 10 rows fails to run (it holds the penalty 1e3, chi^2/nu over 1e5 with it): the verdict says
+    the runs fail; the misfit of the rows that ran is at the noise, so it does not ask to check the
+    experiment's units."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.experiment import Free
+    from blocks.calibrate.fit import fit
+    from blocks.calibrate.model import FAILED_RESIDUAL
+    from blocks.calibrate.run import verdict
+
+    t = np.linspace(0.0, 1.0, 9)
+    y = 1.0 + np.random.default_rng(3).normal(size=9)
+
+    def residuals(x, points=None):
+        model.failures.append("the solver failed at t = 0.2 s")
+        return np.append(x[0] - y, FAILED_RESIDUAL)
+
+    model = SimpleNamespace(
+        n_rows=10, data=SimpleNamespace(kind="time"), failures=[], residuals=residuals,
+        jacobian=lambda x, cols, points, r0: np.append(np.ones(9), 0.0)[:, None][:, cols],
+        bounds=lambda: (np.array([-10.0]), np.array([10.0])), steps=lambda: np.array([1e-6]),
+        layout=SimpleNamespace(globals=[Free("a", 0.0, -10, 10, 1e-6, "1")]))
+    res = fit(model, np.array([0.0]), np.array([True]))
+    assert res.chi2 / 9 > 1e5 and res.inflation < 3
+    final = SimpleNamespace(fit=res, model=model, lof=SimpleNamespace(significant=lambda: ["chi^2/nu = 1.1e+05"]))
+    lines, unexplained = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[],
+                                                 exp=SimpleNamespace(exact_columns=[])))
+    assert lines[0] == ("the final fit's runs fail: the model does not run at the fit's end (1 of 10 rows failed; "
+                        "the last solver message in the fit: the solver failed at t = 0.2 s)")
+    assert unexplained and not any("check the experiment first" in line for line in lines)
 
 
 def _line_fit(x, y, sigma):
