@@ -74,7 +74,8 @@ UNITS: dict[str, Unit] = {
     # mass
     "kg": _KG, "g": Unit(1e-3, _KG.dims), "t": Unit(1e3, _KG.dims),
     # time
-    "s": _S, "ms": Unit(1e-3, _S.dims), "us": Unit(1e-6, _S.dims), "min": Unit(60.0, _S.dims), "h": Unit(3600.0, _S.dims),
+    "s": _S, "ms": Unit(1e-3, _S.dims), "us": Unit(1e-6, _S.dims), "min": Unit(60.0, _S.dims),
+    "h": Unit(3600.0, _S.dims),
     # angle and rotation
     "rad": _RAD, "deg": Unit(math.pi / 180, _RAD.dims), "rev": _REV,
     "rpm": _REV / Unit(60.0, _S.dims), "Hz": _REV / _S,

@@ -307,7 +307,7 @@ def markdown(cal, info: dict) -> str:
               "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | held-out score | accepted "
               "| why not |",
               "|---|---|---|---|---|---|---|---|---|---|"] if r["refits"] else [
-              "None: no candidate's score T is over 3.84 (p < 5 %)." if not r["stopped"] else "None: the trace stopped."])
+              "None: the trace stopped." if r["stopped"] else "None: no candidate's score T is over 3.84 (p < 5 %)."])
         for f in r["refits"]:
             dbic = _g(f["dbic"], 4) + ("" if f["converged"] else " (refit stopped at its evaluation limit: an upper "
                                                                  "bound)")

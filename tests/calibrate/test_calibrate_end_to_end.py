@@ -283,4 +283,5 @@ def test_a_drift_that_cannot_be_tested_is_said_so(tmp_path):
     spec["groups"] = {"1": spec["groups"]["1"]}
     exp.write_text(yaml.safe_dump(spec, sort_keys=False))
     cal = calibrate(exp, tmp_path / "out", rounds=1, with_heldout=False)
-    assert "Drift of k_s: not tested (it needs two groups or runs at least; the data have 1)." in markdown(cal, build(cal))
+    text = markdown(cal, build(cal))
+    assert "Drift of k_s: not tested (it needs two groups or runs at least; the data have 1)." in text
