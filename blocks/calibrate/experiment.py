@@ -350,7 +350,6 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                               for n, v in values.items()}
     if spec.group_table is not None:
         _read_group_table(spec, located, base, groups, param_name)
-    check_values(circuit, overrides, groups, spec, located)
 
     for c in channels:  # a latent level is fitted: a value given for it too would be silently overridden
         for k, level in enumerate(c.latent):
@@ -419,6 +418,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
         if spec.inputs.get(ch.name) is not None and ch.role == "input" and spec.inputs[ch.name].latent == "trace":
             ch.trace = trace_parameter(circuit, exact, ch.name, located, spec.netlist)
     exact = [(column, param) for column, param in exact if param not in {c.trace for c in channels}]
+    check_values(circuit, overrides, groups, spec, located)
     return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files,
                       exact)
 
@@ -609,7 +609,12 @@ def check_values(circuit, overrides: dict[str, float], groups: dict[str, dict[st
                  located: Located) -> None:
     """The netlist evaluated with the experiment's values (overrides, then each group's on top): a value the
     netlist cannot take (R_meter = 0 in G = 1/R_meter) is the experiment's error, located at the entry that
-    sets it, before any fit (it was found after the first, and pointed at the netlist's line)."""
+    sets it, before any fit (it was found after the first, and pointed at the netlist's line). A netlist that
+    cannot be evaluated with its own values is not the experiment's error: left to the run to report."""
+    try:
+        circuit.vectors({})
+    except (NetlistError, ParameterError):
+        return
     tries = [(("overrides",), "overrides", overrides)] + [
         ((("groups", label) if label in {str(k) for k in spec.groups} else ("group_table",)), f"group {label}",
          {**overrides, **values}) for label, values in groups.items()]

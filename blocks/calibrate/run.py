@@ -103,10 +103,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     out = Path(out)
     refuse_to_overwrite_inputs(exp, out)
     data = load_data(exp)
-    if with_heldout:
-        scheme, _folds = folds_of(data, exp.spec.heldout)
-        if "(" in scheme:  # not the scheme asked for, or fewer folds than asked
-            say(f"held out: {scheme}")
+    scheme = folds_of(data, exp.spec.heldout)[0] if with_heldout else ""
     cal = Calibration(exp, data, out)
     globals_ = list(exp.free) + latent_globals(exp, data)
     netlist = exp.netlist
@@ -120,6 +117,8 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
             f"({stage.model.simulations} runs, {time.perf_counter() - t0:.1f} s)")
         if k == 1:
             cal.initial = stage
+            if "(" in scheme:  # not the scheme asked for, or fewer folds than asked (after the first fit: a bad
+                say(f"held out: {scheme}")  # input found there must be the one line printed)
         t1 = time.perf_counter()
         rnd = trace_round(k, stage, exp, data, globals_, out, with_heldout)
         stage.heldout = rnd.decision.base_heldout or (heldout(stage.model, stage.fit, exp.spec.heldout)
