@@ -45,6 +45,7 @@ from blocks.calibrate.screening import Score, screen
 from blocks.calibrate.selection import Decision, decide
 from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
 from blocks.result import atomic_write_text
+from blocks.units import display_factor
 
 GROSS_MISFIT = 100.0  # final chi^2/nu beyond which the verdict asks to check the experiment before the effects
 # (the thesis's real data start at 29.5 with the flow force missing; a pressure read as a flow gave 1e6)
@@ -528,7 +529,8 @@ def unidentified(stage: Stage) -> list[str]:
 
 
 def augmented_header(exp: Experiment, cal: Calibration, netlist: Path) -> str:
-    found = "; ".join(f"{t} {w} ({p} = {v:.4g} +- {s:.2g} {u})" for _, t, w, p, v, s, u in cal.accepted)
+    found = "; ".join(f"{t} {w} ({p} = {v:.4g} +- {s:.2g}{'' if u in ('', '1', 'SI') else ' ' + u})"
+                      for _, t, w, p, v, s, u in cal.accepted)
     return (f"Augmented by vphs calibrate from {netlist.name} for {Path(exp.file).name}.\n"
             f"Added: {found}.\nThe original netlist is unchanged.")
 
@@ -536,8 +538,8 @@ def augmented_header(exp: Experiment, cal: Calibration, netlist: Path) -> str:
 def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path, globals_: list[Free], acc,
                                out: Path) -> Path:
     """The experiment file for the augmented model: same data, the new netlist, the accepted parameters
-    free beside the declared ones (every free parameter starting at its fitted value, SI), sensor
-    corrections fixed at their fitted values."""
+    free beside the declared ones (every free parameter starting at its fitted value: a declared one in the
+    unit it is shown in, an effect's in SI), sensor corrections fixed at their fitted values (SI)."""
     import os
 
     data = dict(exp.located.data)
@@ -556,9 +558,13 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
     free = {name: dict(spec or {}) for name, spec in (data.get("free") or {}).items()}
     corrections = dict(data.get("corrections") or {})
     fitted = {g.name: float(acc.fit.x[k]) for k, g in enumerate(acc.model.layout.globals)}
-    for name in free:  # start where this calibration ended (SI)
+    units = {g.name: g.unit for g in globals_}
+    for name in free:  # start where this calibration ended, in the unit the parameter is shown in
         if name in fitted:
-            free[name]["initial"] = fitted[name]
+            unit = units.get(name, "")
+            free[name]["initial"] = fitted[name] if unit in ("", "1", "SI") else \
+                f"{fitted[name] / display_factor(unit)!r} {unit}"
+
     for g in globals_:
         value = fitted.get(g.name, float(g.initial))
         if g.kind == "candidate":

@@ -93,6 +93,10 @@ def test_steady_flow_force_is_found_and_the_stiffness_stops_drifting(tmp_path, c
     assert doc["components"]["relief"]["params"]["c_ff"] == "cal_cff_relief"
     assert doc["parameters"]["cal_cff_relief"] == pytest.approx(report["rounds"][0]["refits"][0]["value"])
     assert (out / "experiment_augmented.yaml").exists() and (out / "residuals.png").stat().st_size > 10000
+    written = yaml.safe_load((out / "experiment_augmented.yaml").read_text())["free"]
+    k_s = next(p for p in report["parameters"] if p["name"] == "k_s")  # its start: the fit's end, in bar as given
+    assert written["k_s"]["initial"].endswith(" bar") and written["k_s"]["lower"] == "5 bar"
+    assert float(written["k_s"]["initial"].split()[0]) == pytest.approx(k_s["final"], rel=1e-6)  # refitted from it
     # the screening table covers every place of the candidates asked for
     keys = {row["key"] for row in report["rounds"][0]["screening"]}
     assert {"flow_force@relief", "sensor_offset@p1", "sensor_offset@Q", "line_loss_turbulent@relief.a"} <= keys
