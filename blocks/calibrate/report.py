@@ -365,7 +365,9 @@ def plot_residuals(cal, path: Path) -> None:
     import matplotlib.pyplot as plt
 
     first, final = cal.initial, cal.final
-    outputs = [c for c in cal.exp.outputs]
+    names = [c.name for c in first.model.channels]  # outputs, then the imposed inputs: chi^2 counts both
+    outputs = [c for c in cal.exp.outputs] + [c for c in cal.exp.inputs if c.name in names and np.sum(
+        first.model.row_channel == names.index(c.name)) == cal.data.n]
     against = "t" if cal.data.kind == "time" else (cal.exp.inputs[0].name if cal.exp.inputs else None)
     if cal.accepted:
         key = cal.accepted[0][0]
@@ -399,7 +401,7 @@ def plot_residuals(cal, path: Path) -> None:
             ax.axhline(0, color="k", lw=0.6)
             for level in (-2, 2):
                 ax.axhline(level, color="grey", lw=0.5, ls="--")
-            ax.set_ylabel(f"{ch.name}: residual / sigma", fontsize="small")
+            ax.set_ylabel(f"{ch.name}{' (imposed)' if ch.role == 'input' else ''}: residual / sigma", fontsize="small")
             if row == 0:
                 ax.set_title(f"{tag}: chi^2/nu = {stage.lof.reduced:.3g}", fontsize="small")
             if row == len(outputs) - 1:
