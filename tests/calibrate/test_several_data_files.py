@@ -125,7 +125,8 @@ def test_kfold_over_experiments_leaves_whole_files_out_together(tmp_path):
     for name, body in files.items():
         (tmp_path / name).write_text("\n".join([header] + body) + "\n")
     spec = yaml.safe_load(whole_file.read_text())
-    for k, expect in ((2, "2-fold over experiments"), (4, "leave one experiment out"), (9, "leave one experiment out")):
+    for k, expect in ((2, "2-fold over experiments"), (4, "leave one experiment out"),
+                      (9, "leave one experiment out (k = 9 cut to the 4 data files)")):
         spec.update(data=list(files), heldout={"scheme": "kfold_experiments", "k": k, "seed": 3})
         path = tmp_path / f"k{k}.yaml"
         path.write_text(yaml.safe_dump(spec, sort_keys=False))
