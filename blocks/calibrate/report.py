@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 
+from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
 from blocks.calibrate.selection import LINEARISED, several_minima
 from blocks.result import atomic_write_figure, atomic_write_text
 from blocks.units import UnitError, display_factor
@@ -26,6 +27,18 @@ def _g(value, digits: int = 4) -> str:
     if value is None or (isinstance(value, float) and not np.isfinite(value)):
         return "-"
     return f"{value:.{digits}g}"
+
+
+def _in_unit(cal, key: str, value, se, unit: str):
+    """(value, SE, unit) of the effect ``key`` as the markdown shows them: a sensor offset in its channel's
+    unit (blocks.calibrate.candidates.sensor_offset.shown), the rest in SI; the JSON keeps SI."""
+    factor, shown = shown_offset(cal.exp, key, 1.0, unit)
+    return (None if value is None else value * factor), (None if se is None else se * factor), shown
+
+
+def _unit(shown: str, si: str) -> str:
+    """' bar' after a value in a table without a unit column (its values in SI), where it was converted."""
+    return f" {shown}" if shown != si else ""
 
 
 def channel_table(cal) -> list[dict]:
@@ -248,8 +261,9 @@ def markdown(cal, info: dict) -> str:
     if info["effects"]:
         L += ["| effect | where | parameter | value | SE | unit | in the final fit |", "|---|---|---|---|---|---|---|"]
         for e in info["effects"]:
-            L.append(f"| {e['title']} | {e['where']} | `{e['parameter']}` | {_g(e['value'])} | {_g(e['se'], 2)} | "
-                     f"{e['unit']} | {'superseded (within 3 SE of 0)' if e['superseded'] else 'over 3 SE from 0'} |")
+            value, se, unit = _in_unit(cal, e["key"], e["value"], e["se"], e["unit"])
+            L.append(f"| {e['title']} | {e['where']} | `{e['parameter']}` | {_g(value)} | {_g(se, 2)} | "
+                     f"{unit} | {'superseded (within 3 SE of 0)' if e['superseded'] else 'over 3 SE from 0'} |")
         if any(e["key"].split("@")[0] in ("sensor_offset", "sensor_gain") for e in info["effects"]):
             L += ["", "Sensor corrections (offset, gain) act on the logged signal in post-processing, not in the "
                       "netlist; they are written to `experiment_augmented.yaml` under `corrections:`."]
@@ -300,9 +314,10 @@ def markdown(cal, info: dict) -> str:
             rank += s["status"] == "screened"
             shown = str(rank) if s["status"] == "screened" else "-"
             score = _g(s["score"], 4) if s["status"] == "screened" else "-"
+            estimate, _, unit = _in_unit(cal, s["key"], s["estimate"], 0.0, s["unit"])
             L.append(f"| {shown} | {s['candidate']} | {s['where']} | {s['status']} | {score} | "
-                     f"{_g(s['p_value'], 2) if s['status'] == 'screened' else '-'} | {_g(s['estimate'], 3)} | "
-                     f"{s['unit']} | {100 * s['absorbed']:.1f} % | {s['note']} |")
+                     f"{_g(s['p_value'], 2) if s['status'] == 'screened' else '-'} | {_g(estimate, 3)} | "
+                     f"{unit} | {100 * s['absorbed']:.1f} % | {s['note']} |")
         L += ["", "Refitted (ranked by BIC):", ""] + ([
               "| candidate | value | SE | |value|/SE | dBIC | plausible | held-out error | held-out score | accepted "
               "| why not |",
@@ -311,7 +326,8 @@ def markdown(cal, info: dict) -> str:
         for f in r["refits"]:
             dbic = _g(f["dbic"], 4) + ("" if f["converged"] else " (refit stopped at its evaluation limit: an upper "
                                                                  "bound)")
-            L.append(f"| {f['key']} | {_g(f['value'])} | {_g(f['se'], 2)} | {_g(f['z'], 3)} | {dbic} | "
+            value, se, unit = _in_unit(cal, f["key"], f["value"], f["se"], f["unit"])
+            L.append(f"| {f['key']} | {_g(value)}{_unit(unit, f['unit'])} | {_g(se, 2)} | {_g(f['z'], 3)} | {dbic} | "
                      f"{f['plausible']} | {_g(f['heldout_error'], 3)} | {_g(f['heldout_score'], 4)} | {f['accepted']} | "
                      f"{'; '.join(f['reasons'])} |")
         several = [f for f in r["refits"] if f["several_minima"]]
@@ -336,7 +352,8 @@ def markdown(cal, info: dict) -> str:
               "| taken out (round) | put in | value | SE | |value|/SE | dBIC | plausible | made | why not |",
               "|---|---|---|---|---|---|---|---|---|"]
         for ex in info["exchanges"]:
-            L.append(f"| {ex['out']} ({ex['round']}) | {ex['in']} | {_g(ex['value'])} | {_g(ex['se'], 2)} | "
+            value, se, unit = _in_unit(cal, ex["in"], ex["value"], ex["se"], "")
+            L.append(f"| {ex['out']} ({ex['round']}) | {ex['in']} | {_g(value)}{_unit(unit, '')} | {_g(se, 2)} | "
                      f"{_g(ex['z'], 3)} | {_g(ex['dbic'], 4)} | {ex['plausible']} | {ex['made']} | "
                      f"{'; '.join(ex['reasons'])} |")
         L.append("")

@@ -32,6 +32,7 @@ import numpy as np
 import yaml
 
 from blocks.calibrate.candidates import Context, registered
+from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
 from blocks.calibrate.data import Dataset, load_data
 from blocks.calibrate.elimination import Removal, try_removals
 from blocks.calibrate.exchange import Exchange, file_name, free_of, try_exchanges
@@ -459,11 +460,13 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
     "found"; it stays in the augmented netlist, where its fitted value is what the final fit says."""
     lines = []
     for key, title, where, param, value, se, unit in cal.accepted:
-        shown = f" {unit}" if unit not in ("1", "", "SI") else ""
-        if abs(value) > 3.0 * se:
-            lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g}{shown}")
+        found = abs(value) > 3.0 * se
+        (value, unit), se = shown_offset(cal.exp, key, value, unit), shown_offset(cal.exp, key, se, unit)[0]
+        unit = f" {unit}" if unit not in ("1", "", "SI") else ""
+        if found:
+            lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g}{unit}")
         else:
-            lines.append(f"superseded: {title} {where}: {param} = {value:.4g} +- {se:.2g}{shown} in the final "
+            lines.append(f"superseded: {title} {where}: {param} = {value:.4g} +- {se:.2g}{unit} in the final "
                          f"fit, no longer over 3 SE from zero (a later effect explains what it did)")
     for ex in cal.exchanges:
         if ex.made:

@@ -163,7 +163,7 @@ def test_an_effect_the_final_fit_drives_to_zero_is_superseded_not_found():
 
     from blocks.calibrate.run import verdict
 
-    cal = SimpleNamespace(rounds=[], final=None, exchanges=[], removals=[], accepted=[
+    cal = SimpleNamespace(rounds=[], final=None, exchanges=[], removals=[], exp=None, accepted=[
         ("leakage@P1-T", "internal leakage", "P1 to T", "cal_gl_P1_T", 1e-28, 2.8e-12, "m^3/(s*Pa)"),
         ("leakage@R-V", "internal leakage", "R to V", "cal_gl_R_V", 1.7e-11, 4.2e-12, "m^3/(s*Pa)")])
     lines, unexplained = verdict(cal)
@@ -374,3 +374,23 @@ def test_a_significant_chi2_names_its_worst_channel_and_says_when_it_is_an_input
                       "disagree with what the model imposes), chi^2/nu = 49")
     channels[1].reduced = 0.9
     assert lof.significant()[0].endswith("worst channel: speed, chi^2/nu = 1.1")
+
+
+def test_a_sensor_offset_is_shown_in_its_channels_unit():
+    """The data say p1 in bar and Q in l/min; an offset of 1.28e5 Pa read '1.28e+05 +- 9.3e+03 Pa' in the
+    verdict (found by a usability review). The JSON keeps SI; effects of other kinds stay in SI."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.candidates.sensor_offset import shown
+    from blocks.calibrate.run import verdict
+
+    exp = SimpleNamespace(channels=[SimpleNamespace(name="p1", unit="bar"), SimpleNamespace(name="Q", unit="l/min"),
+                                    SimpleNamespace(name="cmd", unit="1")])
+    assert shown(exp, "sensor_offset@p1", 1.28e5, "Pa") == pytest.approx((1.28, "bar"))
+    assert shown(exp, "sensor_offset@Q", 1e-5, "m^3/s") == pytest.approx((0.6, "l/min"))
+    for key, value, unit in (("sensor_offset@cmd", 0.01, "1"), ("sensor_gain@p1", 0.02, "1"),
+                             ("leakage@R-V", 1.7e-11, "m^3/(s*Pa)")):
+        assert shown(exp, key, value, unit) == (value, unit)
+    cal = SimpleNamespace(rounds=[], final=None, exchanges=[], removals=[], exp=exp, accepted=[
+        ("sensor_offset@p1", "sensor offset", "channel p1", "offset:p1", 1.28e5, 9.3e3, "Pa")])
+    assert verdict(cal)[0][0] == "found: sensor offset channel p1: offset:p1 = 1.28 +- 0.093 bar"

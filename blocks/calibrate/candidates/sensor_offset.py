@@ -3,6 +3,7 @@
 import numpy as np
 
 from blocks.calibrate.candidates.base import Candidate, Place, register
+from blocks.units import parse_unit
 
 
 @register
@@ -25,3 +26,13 @@ class SensorOffset(Candidate):
 
     def patch(self, doc, place):
         raise TypeError("a sensor offset patches the compared signal, not the netlist")
+
+
+def shown(exp, key: str, value: float, unit: str) -> tuple[float, str]:
+    """A value of the effect ``key`` as a report shows it: a sensor offset in its channel's unit (an offset of
+    p1 in bar, of Q in l/min, as the data are), anything else as given (SI). JSON reports stay in SI."""
+    candidate, _, where = key.partition("@")
+    channel = next((c for c in exp.channels if c.name == where), None) if candidate == SensorOffset.name else None
+    if channel is None or channel.unit in ("", "1"):
+        return value, unit
+    return value / parse_unit(channel.unit).factor, channel.unit
