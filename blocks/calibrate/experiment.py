@@ -33,7 +33,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
 
 Errors name the file, line and column (the style of :mod:`blocks.netlist.flatten`). Every measured column,
 imposed or compared, and its noise are in a unit of the dimension the netlist gives the channel
-(:func:`channel_unit`: a flow for ``Q_in: "40 l/min"``, a plain number for a command level ``u1: 0.1``);
+(:func:`channel_unit`: a flow for ``Q_in: "40 l/min"``; where the netlist cannot say, as for a command level
+``u1: 0.1`` in a profile's values, the data column's unit);
 a column of another dimension (``Q [bar]``), without unit (``Q``) or a noise of another dimension
 (``noise: "0.5 bar"``) is an error, not a quantity read as one of the channel's. Inputs of steady data
 are imposed through a netlist parameter per point; inputs of a time series are logged signals of the
@@ -497,13 +498,12 @@ def channel_unit(ch: ChannelSpec, levels: list[str], table, signals: dict) -> st
 
     - an output, or an input imposed through a logged signal: the signal's unit; for a generic signal block
       (SI of any unit) the unit the netlist logs it in (``x: {of: travel.y, unit: mm}``), else the dimension
-      of its latent levels (``cmd: {signal: cmd, latent: [u1, u2]}`` with ``u1: 0.1``: dimensionless); not
-      known for ``latent: trace`` (the netlist reads the data column itself, in the column's unit) or levels
-      of no known dimension;
+      of its latent levels; not known for ``latent: trace`` (the netlist reads the data column itself, in the
+      column's unit) or levels of no known dimension (``u1: 0.1`` in a profile's values, which take any unit);
     - an input imposed through a parameter: :meth:`blocks.netlist.parameters.ParameterTable.dimension` (its
       declared unit, the unit its value is written in, or for a bare number the places it is put:
-      ``Q_in: "40 l/min"`` and ``Q_in: 6.7e-4`` put as a flow source's ``q`` are flows, ``u1: 0.1`` put in
-      a profile's values is dimensionless); not known for a bare number only read inside expressions."""
+      ``Q_in: "40 l/min"`` and ``Q_in: 6.7e-4`` put as a flow source's ``q`` are flows); not known for a bare
+      number put only where any unit goes or read inside expressions."""
     if ch.signal is not None:
         signal = signals[ch.signal]
         for text in (signal.unit, signal.display_unit):

@@ -461,7 +461,8 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
     lines = []
     for key, title, where, param, value, se, unit in cal.accepted:
         found = abs(value) > 3.0 * se
-        (value, unit), se = shown_offset(cal.exp, key, value, unit), shown_offset(cal.exp, key, se, unit)[0]
+        se = shown_offset(cal.exp, key, se, unit)[0]  # a sensor offset in its channel's unit, as the data are
+        value, unit = shown_offset(cal.exp, key, value, unit)
         unit = f" {unit}" if unit not in ("1", "", "SI") else ""
         if found:
             lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g}{unit}")
@@ -567,7 +568,6 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
             unit = units.get(name, "")
             free[name]["initial"] = fitted[name] if unit in ("", "1", "SI") else \
                 f"{fitted[name] / display_factor(unit)!r} {unit}"
-
     for g in globals_:
         value = fitted.get(g.name, float(g.initial))
         if g.kind == "candidate":

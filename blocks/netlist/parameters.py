@@ -138,10 +138,10 @@ class ParameterTable:
         the SI value of whatever its place needs) the declared unit of the places it is put as it stands
         (``q: Q_in`` or ``q: -Q_in``, through other netlist parameters that are it under another name). None
         (not known) for a bare number in no place of declared unit: put only where any unit goes (a generic
-        signal block's SI parameter, a profile's ``values``: ``Q_in: 6.7e-4`` driving a constant block that
-        drives a flow source is a flow, ``u1: 0.1`` a plain number), read inside an expression (a free number
-        adapts there, ``J: "0.085 + m*r**2/n**2"``, and its dimension would have to be solved for), or
-        nowhere; and for one put in places of different dimensions."""
+        signal block's SI parameter, a profile's ``values``: there ``Q_in: 6.7e-4`` may be a flow, driving a
+        constant block that drives a flow source, and ``u1: 0.1`` a plain number), read inside an expression
+        (a free number adapts there, ``J: "0.085 + m*r**2/n**2"``, and its dimension would have to be solved
+        for), or nowhere; and for one put in places of different dimensions."""
         entry = self.entries[name]
         if entry.unit not in (None, GENERIC):
             return parse_unit(entry.unit)
