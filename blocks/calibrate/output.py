@@ -34,7 +34,7 @@ PREVIOUS = ".previous"
 MOVING = ".previous.partial"
 DISCARD = ".discard"
 OWNED = re.compile(r"(report\.(json|md)|residuals\.png|latent_trace\.png|experiment_augmented\.yaml"
-                   r"|exchange|elimination|round\d+)")
+                   r"|calibrated\.yaml|exchange|elimination|round\d+)")
 
 
 def owned(folder: Path) -> list[Path]:

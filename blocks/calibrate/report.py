@@ -139,6 +139,7 @@ def build(cal) -> dict:
         "data": [str(f) for f in exp.data_files] if len(exp.data_files) > 1 else str(exp.data),
         "kind": data.kind, "points": data.n, "groups": list(data.groups),
         "verdict": cal.verdict, "unexplained_discrepancy": cal.unexplained,
+        "calibrated_netlist": str(cal.calibrated) if cal.calibrated else None,
         "imposed_exactly": [{"column": column, "parameter": param} for column, param in exp.exact_columns],
         "latent_traces": latent_traces(cal),
         "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u,
@@ -269,6 +270,9 @@ def markdown(cal, info: dict) -> str:
                       "netlist; they are written to `experiment_augmented.yaml` under `corrections:`."]
     else:
         L.append("None accepted.")
+    if info["calibrated_netlist"]:
+        L += ["", f"Calibrated netlist: `{info['calibrated_netlist']}`, the final model with every fitted parameter "
+                  f"at its final value (`vphs run` simulates the calibrated model)."]
     L += ["", "## Parameters: how they moved", "",
           "| parameter | kind | unit | start | declared fit | SE | final | SE |", "|---|---|---|---|---|---|---|---|"]
     for p in info["parameters"]:

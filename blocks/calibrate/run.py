@@ -95,6 +95,7 @@ class Calibration:
     removals: list[Removal] = field(default_factory=list)  # the elimination check after the exchange check
     simulations: int = 0  # settling runs and time-series runs
     equilibria: int = 0  # Newton solves of steady points
+    calibrated: Path | None = None  # the final netlist with the fitted values (write_calibrated)
 
 
 def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=None, rounds: int | None = None,
@@ -175,8 +176,42 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         j = cal.final.model.layout.index(param)
         cal.accepted[k] = (key, title, where, param, float(cal.final.fit.x[j]), float(cal.final.fit.se[j]), unit)
     cal.verdict, cal.unexplained = verdict(cal)
+    cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
+
+
+def write_calibrated(cal: Calibration) -> Path | None:
+    """``calibrated.yaml``: the final model's netlist with every fitted parameter (the declared free ones,
+    the effects found) at its final value and the experiment's overrides in, so that ``vphs run`` simulates
+    the calibrated model. Per-group values and the imposed inputs stay as the netlist has them (they are the
+    experiment's, point by point); sensor corrections act on the data, not the netlist. A fitted parameter
+    that is neither a netlist parameter nor a component's (one inside a subsystem) is listed in the header
+    as not set."""
+    if cal.final is None:
+        return None
+    doc = NetlistDoc.read(cal.final.netlist)
+    values = [(name, value) for name, value in cal.exp.overrides.items()] + [
+        (g.name, float(cal.final.fit.x[k]) if g.unit in ("", "1", "SI") else
+         f"{float(cal.final.fit.x[k]) / display_factor(g.unit)!r} {g.unit}")
+        for k, g in enumerate(cal.final.model.layout.globals) if g.kind in ("declared", "candidate")]
+    parameters, components, missed = doc.section("parameters"), doc.section("components"), []
+    for name, value in values:
+        component, _, param = name.rpartition(".")
+        if name in parameters:
+            parameters[name] = value
+        elif component in components:
+            doc.set_param(component, param, value)
+        else:
+            missed.append(name)
+    fitted = "".join(f"\n  {n} = {v}" for n, v in values[len(cal.exp.overrides):]) or " none"
+    target = cal.out / "calibrated.yaml"
+    doc.write(target, header=f"Calibrated by vphs calibrate for {Path(cal.exp.file).name}: {cal.final.netlist.name} "
+                             f"with the experiment's overrides and every fitted parameter at its final value:{fitted}"
+                             f"\nPer-group values and the imposed inputs are the netlist's."
+                             + (f"\nNot set here (not a netlist or component parameter): {', '.join(missed)}."
+                                if missed else ""))
+    return target
 
 
 def refuse_to_overwrite_inputs(exp: Experiment, out: Path) -> None:
