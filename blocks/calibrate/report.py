@@ -271,8 +271,12 @@ def markdown(cal, info: dict) -> str:
     else:
         L.append("None accepted.")
     if info["calibrated_netlist"]:
+        one_run = data.kind == "time" and len(data.groups) <= 1
         L += ["", f"Calibrated netlist: `{info['calibrated_netlist']}`, the final model with every fitted parameter "
-                  f"at its final value (`vphs run` simulates the calibrated model)."]
+                  f"at its final value" + (" and the fitted command: `vphs run` reproduces the fit (sensor "
+                                           "corrections aside)." if one_run else
+                                           ": `vphs run` simulates the calibrated model at the netlist's own "
+                                           "inputs (the experiment's differ point by point or run by run).")]
     L += ["", "## Parameters: how they moved", "",
           "| parameter | kind | unit | start | declared fit | SE | final | SE |", "|---|---|---|---|---|---|---|---|"]
     for p in info["parameters"]:

@@ -184,17 +184,24 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
 def write_calibrated(cal: Calibration) -> Path | None:
     """``calibrated.yaml``: the final model's netlist with every fitted parameter (the declared free ones,
     the effects found) at its final value and the experiment's overrides in, so that ``vphs run`` simulates
-    the calibrated model. Per-group values and the imposed inputs stay as the netlist has them (they are the
-    experiment's, point by point); sensor corrections act on the data, not the netlist. A fitted parameter
-    that is neither a netlist parameter nor a component's (one inside a subsystem) is listed in the header
-    as not set."""
+    the calibrated model. A time series of one run gets its fitted command too (the latent levels, or the
+    profile through a recorded trace's knots): run, it reproduces the final fit. Steady points and runs of
+    several keep the netlist's own inputs and per-group values (the experiment's differ point by point, run
+    by run). Sensor corrections act on the data, not the netlist. A fitted parameter that is neither a
+    netlist parameter nor a component's (one inside a subsystem) is listed in the header as not set."""
     if cal.final is None:
         return None
     doc = NetlistDoc.read(cal.final.netlist)
+    x = cal.final.fit.x
+    one_run = cal.data.kind == "time" and len(cal.data.groups) <= 1  # its fitted inputs are the netlist's too
+    kinds = ("declared", "candidate") + (("latent",) if one_run else ())
     values = [(name, value) for name, value in cal.exp.overrides.items()] + [
-        (g.name, float(cal.final.fit.x[k]) if g.unit in ("", "1", "SI") else
-         f"{float(cal.final.fit.x[k]) / display_factor(g.unit)!r} {g.unit}")
-        for k, g in enumerate(cal.final.model.layout.globals) if g.kind in ("declared", "candidate")]
+        (g.name, float(x[k]) if g.unit in ("", "1", "SI") else f"{float(x[k]) / display_factor(g.unit)!r} {g.unit}")
+        for k, g in enumerate(cal.final.model.layout.globals) if g.kind in kinds]
+    if one_run:  # a recorded command: the profile through the fitted knots instead of the recording
+        for (profile, _run), (times, knots) in cal.final.model.trace_knots(x).items():
+            values += [(f"{profile}.times", [float(t) for t in times]),
+                       (f"{profile}.values", [float(v) for v in knots])]
     parameters, components, missed = doc.section("parameters"), doc.section("components"), []
     for name, value in values:
         component, _, param = name.rpartition(".")
@@ -204,13 +211,17 @@ def write_calibrated(cal: Calibration) -> Path | None:
             doc.set_param(component, param, value)
         else:
             missed.append(name)
-    fitted = "".join(f"\n  {n} = {v}" for n, v in values[len(cal.exp.overrides):]) or " none"
+    fitted = "".join(f"\n  {n} = {v if not isinstance(v, list) else f'({len(v)} knots)'}"
+                     for n, v in values[len(cal.exp.overrides):]) or " none"
+    inputs = ("The command is the fitted one (its latent levels or knots): `vphs run` reproduces the fit, sensor "
+              "corrections aside." if one_run else
+              "The imposed inputs (each steady point's, or each run's command) and per-group values are the "
+              "netlist's own: `vphs run` simulates the calibrated model at those.")
     target = cal.out / "calibrated.yaml"
     doc.write(target, header=f"Calibrated by vphs calibrate for {Path(cal.exp.file).name}: {cal.final.netlist.name} "
                              f"with the experiment's overrides and every fitted parameter at its final value:{fitted}"
-                             f"\nPer-group values and the imposed inputs are the netlist's."
-                             + (f"\nNot set here (not a netlist or component parameter): {', '.join(missed)}."
-                                if missed else ""))
+                             f"\n{inputs}" + (f"\nNot set here (not a netlist or component parameter): "
+                                               f"{', '.join(missed)}." if missed else ""))
     return target
 
 

@@ -149,6 +149,12 @@ def test_time_series_coulomb_friction_is_found(tmp_path):
     for name, true in (("u1", 0.1), ("u2", 0.2), ("u3", -0.15)):
         j = cal.final.model.layout.index(name)
         assert abs(cal.final.fit.x[j] - true) < 3 * cal.final.fit.se[j] + 1e-4
+    # calibrated.yaml has the fitted command levels too: run, it gives the final fit's prediction of the speed
+    model, fit = cal.final.model, cal.final.fit
+    rows = model.row_channel == [c.name for c in model.channels].index("speed")
+    predicted = cal.data.measured["speed"] + fit.r[rows] * cal.data.sigma["speed"]
+    run = Circuit.from_file(cal.calibrated).simulate()
+    assert np.allclose(np.interp(cal.data.t, run.t, run["speed"]), predicted, atol=1e-3 * cal.data.sigma["speed"])
 
 
 def test_alternatives_the_data_cannot_tell_apart_are_reported_as_ambiguous(tmp_path):

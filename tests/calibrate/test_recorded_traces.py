@@ -133,6 +133,15 @@ def test_the_recordings_noise_biases_the_friction_unless_the_trace_is_latent(tmp
         assert abs(value - 3.0) < 3.0 * se, f"{value} +- {se}"
         assert cal.final.lof.reduced < 1.1 and not verdict(cal)[1]
         assert paths["traces"].stat().st_size > 0 and "latent trace of cmd" in paths["markdown"].read_text()
+        # calibrated.yaml drives the profile through the fitted knots, not the recording: run, it gives the
+        # final fit's prediction of the speed
+        from blocks.circuit import Circuit
+
+        model, fit = cal.final.model, cal.final.fit
+        rows = model.row_channel == [c.name for c in model.channels].index("speed")
+        predicted = cal.data.measured["speed"] + fit.r[rows] * cal.data.sigma["speed"]
+        run = Circuit.from_file(cal.calibrated).simulate()
+        assert np.allclose(np.interp(cal.data.t, run.t, run["speed"]), predicted, atol=1e-3 * cal.data.sigma["speed"])
     else:  # the premise: the recording imposed exactly biases the friction and leaves a misfit
         assert abs(value - 3.0) > 3.0 * se, f"{value} +- {se}"
         assert verdict(cal)[1] and "traces" not in paths
