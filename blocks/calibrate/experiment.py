@@ -53,6 +53,8 @@ report names it (:func:`read_by_netlist`), and the verdict does when a discrepan
 
 from __future__ import annotations
 
+import ast
+
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Annotated, Literal, Union
@@ -315,8 +317,17 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 raise located.error(path + ("latent",), f"{role}s.{name}.latent: 'trace' is for the recorded input "
                                     f"of a time series (given by 'signal'), not a steady point's 'parameter'")
             levels = [] if isinstance(ch.latent, str) else list(ch.latent)
+            if isinstance(ch.latent, list) and not levels and "latent" in ch.model_fields_set:
+                raise located.error(path + ("latent",), f"{role}s.{name}.latent: lists no level; give the netlist "
+                                    f"parameters of its levels (e.g. [u1, u2]) or 'trace', or leave it out")
             for k, lat in enumerate(levels):
                 param_name(lat, path + ("latent", k))
+                if lat in levels[:k]:
+                    raise located.error(path + ("latent", k), f"{role}s.{name}.latent: {lat} is listed twice")
+                if role == "input" and not is_signal_level(circuit.flat.parameters, lat):
+                    raise located.error(path + ("latent", k), f"{role}s.{name}.latent: {lat} is not a level of a "
+                                        f"signal block (no profile's values or signal block's parameter reads it "
+                                        f"as it stands), so it is not a level of the command '{ch.signal}'")
             if role == "output" and (ch.parameter or ch.latent):
                 raise located.error(path, f"outputs.{name}: an output takes 'signal' and 'noise' only")
             channel = Channel(name, role, ch.signal, ch.parameter, levels, None, "given",
@@ -624,3 +635,19 @@ def check_values(circuit, overrides: dict[str, float], groups: dict[str, dict[st
         except (NetlistError, ParameterError) as exc:
             raise located.error(path, f"{path[0]}: with the values of {what} the netlist cannot be evaluated: "
                                       f"{exc}") from None
+
+
+def is_signal_level(table, name: str) -> bool:
+    """Whether the netlist parameter ``name`` is read, as it stands, by a breakpoint of an array parameter
+    (a profile's values) or by a signal block's parameter (of any unit, e.g. a constant's value): what a
+    latent level of a command must be. A net's volume or a component's physical parameter is not."""
+    from blocks.netlist.parameters import Expression
+
+    for reader in table.entries.values():
+        items = [reader.expression] if reader.expression is not None else \
+            [item for item in reader.elements or () if isinstance(item, Expression)]
+        for item in items:
+            if reader.scope.get(item.tree.id if isinstance(item.tree, ast.Name) else None) == name \
+                    and (reader.elements is not None or reader.unit == GENERIC):
+                return True
+    return False

@@ -310,3 +310,18 @@ def test_an_override_below_its_parameters_bound_is_located_at_the_override(tmp_p
     assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: overrides: with the values of overrides "
                                       r"the netlist cannot be evaluated: override relief\.k_s: k_s = -5 Pa is below "
                                       r"its lower bound 1 Pa", err), err
+
+
+@pytest.mark.parametrize("latent, pattern", [
+    (["u1", "u2", "u1"], r"inputs\.cmd\.latent: u1 is listed twice"),
+    (["u1", "V_line"], r"inputs\.cmd\.latent: V_line is not a level of a signal block .* the command 'cmd'"),
+    ([], r"inputs\.cmd\.latent: lists no level; give the netlist parameters of its levels"),
+], ids=["a level twice", "a line volume", "no level"])
+def test_a_latent_list_that_is_not_the_commands_levels_is_refused(tmp_path, capsys, latent, pattern):
+    """Before, each ran to exit 0: u1 twice was fitted to -2.6e9 (chi^2/nu 1.5e21), the line volume was
+    fitted, unbounded, as a 'level' of the command, and an empty list said the inputs were fitted as latent
+    values when nothing was (found by a usability review)."""
+    spec = dict(yaml.safe_load(yaml.safe_dump(SERIES)), inputs={"cmd": {"signal": "cmd", "latent": latent,
+                                                                       "noise": 0.01}})
+    code, err, path = run(tmp_path, capsys, spec, data="t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
+    assert code == 2 and "\n" not in err and re.search(rf"{re.escape(str(path))}:\d+:\d+: {pattern}", err), err
