@@ -384,7 +384,8 @@ def cmd_calibrate(args) -> int:
         paths = write(cal, out)
     for line in cal.verdict:
         print(line)
-    say("wrote " + ", ".join(str(p) for p in paths.values()))
+    written = list(paths.values()) + [p for p in (cal.calibrated, out / "experiment_augmented.yaml") if p and p.exists()]
+    say("wrote " + ", ".join(str(p) for p in written) + f" and the rounds' netlists under {out}")
     return 0
 
 

@@ -212,7 +212,8 @@ def markdown(cal, info: dict) -> str:
                      f"p = {_g(o['p_value'], 2)}), BIC = {_g(o['bic'], 6)}, held-out error "
                      f"{_g(o['heldout_error'], 3)}"
                      + (f" (score {_g(o['heldout_score'], 4)}, with the uncertainty of "
-                        f"{o['heldout_knots_propagated']} knots of the recorded command)"
+                        f"{o['heldout_knots_propagated']} knot times and values of the recorded command, summed "
+                        f"over the held-out blocks)"
                         if o["heldout_knots_propagated"] else "")
                      + f" ({o['heldout_scheme']}"
                      + (f"; folds whose refit did not converge: {', '.join(o['heldout_unconverged_folds'])}"
