@@ -96,6 +96,7 @@ class Calibration:
     simulations: int = 0  # settling runs and time-series runs
     equilibria: int = 0  # Newton solves of steady points
     calibrated: Path | None = None  # the final netlist with the fitted values (write_calibrated)
+    held_levels: list = field(default_factory=list)  # command levels no sample reads (latent_globals)
 
 
 def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=None, rounds: int | None = None,
@@ -108,7 +109,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     data = load_data(exp)
     scheme = folds_of(data, exp.spec.heldout)[0] if with_heldout else ""
     cal = Calibration(exp, data, out)
-    globals_ = list(exp.free) + latent_globals(exp, data)
+    globals_ = list(exp.free) + latent_globals(exp, data, cal.held_levels)
     netlist = exp.netlist
     x_prev: np.ndarray | None = None
     prev_model: Model | None = None
@@ -306,28 +307,41 @@ def _adopt(cal: Calibration, stage: Stage, netlist: Path, globals_: list[Free]) 
     write_augmented_experiment(cal.exp, cal, netlist, globals_, stage, cal.out)
 
 
-def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
+def latent_globals(exp: Experiment, data: Dataset, held: list[str] | None = None) -> list[Free]:
     """The latent values of time-series inputs as free globals: the levels of a command profile (netlist
     parameters; with several runs, one set per run, ``<level>[<run>]``, starting at the run's netlist
     value), or the knots of a recorded trace (``latent: trace``, :mod:`blocks.calibrate.latent_trace`; with
     several runs, each run's own knots, chosen from its own recording; an error naming the input if a
-    recording needs too many knots, or if the netlist reads the recording from a file of several runs)."""
+    recording needs too many knots, or if the netlist reads the recording from a file of several runs).
+
+    A level in force only after its run's last sample acts on no sample (the profile is the same up to then
+    whatever the level) and is not fitted: nothing fixes it, and a fit let it drift (to -6e9 on the drive
+    line cut at 2 s). It keeps the netlist's value; its name goes into ``held``. A level in force before the
+    run's first sample is fitted: it acts on the state the samples start from (its held-out refit is another
+    matter: blocks.calibrate.heldout)."""
     out = []
     if data.kind != "time":
         return out
     from blocks.circuit import Circuit
 
     circuit = Circuit.from_file(exp.netlist, compile=False)
-    values = circuit.flat.parameters.evaluate({})
+    table = circuit.flat.parameters
+    values = table.evaluate({})
     runs = list(data.groups) if len(data.groups) > 1 else [None]  # several runs: each its own levels
     for ch in exp.inputs:
         sigma = data.sigma[ch.name]
         for name in ch.latent:
             for run in runs:
-                start = float(values[name] if run is None else circuit.flat.parameters.evaluate(
-                    dict(exp.overrides, **exp.groups.get(run, {})))[name])
-                out.append(Free(name if run is None else f"{name}[{run}]", start, -np.inf, np.inf, 0.1 * sigma,
-                                display_unit(circuit.flat.parameters.entries[name]), "latent", run=run))
+                over = dict(exp.overrides, **exp.groups.get(run, {})) if run is not None else {}
+                start = float(values[name] if run is None else table.evaluate(over)[name])
+                label = name if run is None else f"{name}[{run}]"
+                times = data.t if run is None else data.t[data.groups[run]]
+                if not level_read(table, over, name, times, until=float(np.max(times))):
+                    if held is not None:
+                        held.append(label)
+                    continue
+                out.append(Free(label, start, -np.inf, np.inf, 0.1 * sigma,
+                                display_unit(table.entries[name]), "latent", run=run))
         if ch.trace is not None:
             times = np.asarray(values[ch.trace.rsplit(".", 1)[0] + ".times"], dtype=float)
             if runs != [None] and not np.all(np.diff(times) > 0):
@@ -338,6 +352,32 @@ def latent_globals(exp: Experiment, data: Dataset) -> list[Free]:
             for run in runs:
                 out += trace_globals(exp, data, ch, run, len(times))
     return out
+
+
+def level_read(table, over: dict, name: str, times: np.ndarray, until: float | None = None) -> bool:
+    """Whether some sample time reads the command level ``name``: a profile whose values read it gives
+    another value at one of ``times`` when the level moves by 1 (with ``until``: at any time up to it, the
+    profile's breakpoints there included, so also between samples). A level read by any other signal block
+    (a constant's value) is read at every time."""
+    from blocks.netlist.parameters import Expression
+
+    base = table.evaluate(over)
+    moved = table.evaluate(dict(over, **{name: float(base[name]) + 1.0}))
+    for reader in table.entries.values():
+        items = [reader.expression] if reader.expression is not None else \
+            [item for item in reader.elements or () if isinstance(item, Expression)]
+        if not any(reader.scope.get(local) == name for item in items for local in item.names):
+            continue
+        breakpoints = base.get(reader.name.rsplit(".", 1)[0] + ".times") if reader.elements is not None else None
+        if breakpoints is None:
+            return True
+        t = np.asarray(breakpoints, dtype=float)
+        if until is not None:  # piecewise linear: equal at every breakpoint up to ``until`` is equal throughout
+            times = np.concatenate([times, t[t <= until], [0.0, until]])
+        if np.any(np.interp(times, t, np.asarray(base[reader.name], dtype=float))
+                  != np.interp(times, t, np.asarray(moved[reader.name], dtype=float))):
+            return True
+    return False
 
 
 def trace_globals(exp: Experiment, data: Dataset, ch, run: str | None, length: int) -> list[Free]:
@@ -535,6 +575,9 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines += [f"  to separate them: {s}" for s in rnd.decision.separation]
             lines += [f"  what the choice changes: {s}" for s in rnd.decision.depends]
     unexplained = False
+    if getattr(cal, "held_levels", None):
+        lines.append(f"not fitted: {', '.join(cal.held_levels)}, command level(s) in force only after the last "
+                     f"sample of their run: they act on no sample, so they keep the netlist's values")
     if cal.final is not None:
         failure = cal.final.fit.run_failure()
         if failure:  # such rows hold a penalty, not a residual: say so before any statistic they enter

@@ -8,6 +8,7 @@ and at 150 bar with levels 0.15, 0.25, -0.1; noise on every column (the command'
 from __future__ import annotations
 
 import re
+from types import SimpleNamespace
 from pathlib import Path
 
 import numpy as np
@@ -326,3 +327,47 @@ def test_a_column_imposed_exactly_cannot_drive_several_runs(runs_dir, tmp_path, 
     assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: data: the netlist reads the column cmd \(cmd\.values\) "
                                    r"from one data file and imposes it exactly, which would drive all 2 runs", err), err
     assert not (tmp_path / "out").exists()
+
+
+def test_a_level_no_sample_of_its_run_reads_is_not_fitted(runs_dir, tmp_path):
+    """Run a cut at 2.0 s (u3 is in force from 2.0 s on) and run b starting at 1.7 s (u1 and u2 were in force
+    before): no sample of its run reads those levels. u3[a] acts on none either: fitted, it drifted (to -6e9
+    on one run cut at 2 s; found by a usability review); now it keeps the netlist's value and the verdict
+    names it. u1[b] and u2[b] act on the state run b's samples start from, and are fitted."""
+    from blocks.calibrate.run import level_read
+    from blocks.circuit import Circuit
+
+    lines = (runs_dir / "runs.csv").read_text().splitlines()
+    kept = [line for line in lines[1:] if (line.startswith("a,") and float(line.split(",")[1]) <= 2.0)
+            or (line.startswith("b,") and float(line.split(",")[1]) >= 1.7)]
+    (tmp_path / "runs.csv").write_text("\n".join([lines[0]] + kept) + "\n")
+    exp = load_experiment(_experiment(tmp_path))
+    data = load_data(exp)
+    held = []
+    levels = [g.name for g in latent_globals(exp, data, held) if g.kind == "latent"]
+    # u3[a] acts on no sample; u1[b] and u2[b] act on the state run b's samples start from: fitted
+    assert held == ["u3[a]"] and sorted(levels) == ["u1[a]", "u1[b]", "u2[a]", "u2[b]", "u3[b]"]
+    table = Circuit.from_file(NETLIST, compile=False).flat.parameters
+    t = np.linspace(0.0, 3.4, 1701)
+    assert all(level_read(table, {}, name, t) for name in ("u1", "u2", "u3"))  # the whole series reads each
+    assert not level_read(table, {}, "u3", t[t <= 2.0], until=2.0) and level_read(table, {}, "u3", t[t <= 2.1])
+    assert not level_read(table, {}, "u1", t[t >= 1.7]) and level_read(table, {}, "u1", t[t >= 1.7], until=3.4)
+    cal = SimpleNamespace(accepted=[], exchanges=[], removals=[], rounds=[], final=None, held_levels=held)
+    assert verdict(cal)[0][0].startswith("not fitted: u3[a], command level(s) in force only after the last")
+
+
+def test_a_run_that_starts_after_some_levels_still_finds_the_friction(tmp_path):
+    """The shipped drive-line data (friction 3 N*m planted) split at 1.7 s into two runs, held out one at a
+    time. Run b's samples read neither u1 nor u2 (in force before 1.7 s): in its held-out refit, with its
+    outputs out, nothing fixed them, u1[b] drifted to -1872 and the friction was refused ('held-out error
+    2962 is not below 16.85'; found by a usability review). They are held at their start there now."""
+    lines = (EXPERIMENTS / "data" / "drive_line_series.csv").read_text().splitlines()
+    rows = [line for line in lines if line and not line.startswith("#")]
+    (tmp_path / "runs.csv").write_text("\n".join(["run," + rows[0]] + [
+        ("a," if float(line.split(",")[0]) <= 1.7 else "b,") + line for line in rows[1:]]) + "\n")
+    exp = _experiment(tmp_path, groups={"a": {"supply.p": "207 bar"}, "b": {"supply.p": "207 bar"}},
+                      trace={"rounds": 1, "only": ["coulomb_friction"]})
+    cal = calibrate(exp, tmp_path / "out")
+    assert [a[0] for a in cal.accepted] == ["coulomb_friction@shaft"], cal.verdict
+    _key, _title, _where, _param, value, se, _unit = cal.accepted[0]
+    assert abs(value - 3.0) < 3 * se
