@@ -63,6 +63,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from blocks.calibrate.fit import FitResult, covariance, fit
+from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
 
 
@@ -135,8 +136,6 @@ def read_by_its_run(model: Model, level) -> bool:
     in force before them; it acts only on the state they start from) has nothing to fix it, and drifted
     (to -1872 on the drive line split at 1.7 s, which refused the right friction). Such a level is held at
     its start, the netlist's value, in the refit."""
-    from blocks.calibrate.run import level_read
-
     name = level.name.split("[", 1)[0]
     over = dict(model.exp.overrides, **model.exp.groups.get(level.run, {}))
     return level_read(model.circuit.flat.parameters, over, name, model.data.t[model.data.groups[level.run]])

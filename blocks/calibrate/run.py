@@ -40,6 +40,7 @@ from blocks.calibrate.experiment import Experiment, Free, display_unit, load_exp
 from blocks.calibrate.fit import FitResult, fit
 from blocks.calibrate.heldout import HeldOut, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
+from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
 from blocks.calibrate.patch import NetlistDoc
 from blocks.calibrate.screening import Score, screen
@@ -352,32 +353,6 @@ def latent_globals(exp: Experiment, data: Dataset, held: list[str] | None = None
             for run in runs:
                 out += trace_globals(exp, data, ch, run, len(times))
     return out
-
-
-def level_read(table, over: dict, name: str, times: np.ndarray, until: float | None = None) -> bool:
-    """Whether some sample time reads the command level ``name``: a profile whose values read it gives
-    another value at one of ``times`` when the level moves by 1 (with ``until``: at any time up to it, the
-    profile's breakpoints there included, so also between samples). A level read by any other signal block
-    (a constant's value) is read at every time."""
-    from blocks.netlist.parameters import Expression
-
-    base = table.evaluate(over)
-    moved = table.evaluate(dict(over, **{name: float(base[name]) + 1.0}))
-    for reader in table.entries.values():
-        items = [reader.expression] if reader.expression is not None else \
-            [item for item in reader.elements or () if isinstance(item, Expression)]
-        if not any(reader.scope.get(local) == name for item in items for local in item.names):
-            continue
-        breakpoints = base.get(reader.name.rsplit(".", 1)[0] + ".times") if reader.elements is not None else None
-        if breakpoints is None:
-            return True
-        t = np.asarray(breakpoints, dtype=float)
-        if until is not None:  # piecewise linear: equal at every breakpoint up to ``until`` is equal throughout
-            times = np.concatenate([times, t[t <= until], [0.0, until]])
-        if np.any(np.interp(times, t, np.asarray(base[reader.name], dtype=float))
-                  != np.interp(times, t, np.asarray(moved[reader.name], dtype=float))):
-            return True
-    return False
 
 
 def trace_globals(exp: Experiment, data: Dataset, ch, run: str | None, length: int) -> list[Free]:

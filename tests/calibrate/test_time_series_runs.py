@@ -334,7 +334,7 @@ def test_a_level_no_sample_of_its_run_reads_is_not_fitted(runs_dir, tmp_path):
     before): no sample of its run reads those levels. u3[a] acts on none either: fitted, it drifted (to -6e9
     on one run cut at 2 s; found by a usability review); now it keeps the netlist's value and the verdict
     names it. u1[b] and u2[b] act on the state run b's samples start from, and are fitted."""
-    from blocks.calibrate.run import level_read
+    from blocks.calibrate.levels import level_read
     from blocks.circuit import Circuit
 
     lines = (runs_dir / "runs.csv").read_text().splitlines()
