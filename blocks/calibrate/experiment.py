@@ -641,11 +641,7 @@ def is_signal_level(table, name: str) -> bool:
     """Whether the netlist parameter ``name`` is read, as it stands, by a breakpoint of an array parameter
     (a profile's values) or by a signal block's parameter (of any unit, e.g. a constant's value): what a
     latent level of a command must be. A net's volume or a component's physical parameter is not."""
-    from blocks.netlist.parameters import Expression
-
-    for reader in table.entries.values():
-        items = [reader.expression] if reader.expression is not None else \
-            [item for item in reader.elements or () if isinstance(item, Expression)]
+    for reader, items in table.readers(name):
         for item in items:
             if reader.scope.get(item.tree.id if isinstance(item.tree, ast.Name) else None) == name \
                     and (reader.elements is not None or reader.unit == GENERIC):

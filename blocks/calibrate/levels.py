@@ -10,8 +10,6 @@ from __future__ import annotations
 
 import numpy as np
 
-from blocks.netlist.parameters import Expression
-
 
 def level_read(table, over: dict, name: str, times: np.ndarray, until: float | None = None) -> bool:
     """Whether some sample time reads the command level ``name``: a profile whose values read it gives
@@ -20,11 +18,7 @@ def level_read(table, over: dict, name: str, times: np.ndarray, until: float | N
     (a constant's value) is read at every time."""
     base = table.evaluate(over)
     moved = table.evaluate(dict(over, **{name: float(base[name]) + 1.0}))
-    for reader in table.entries.values():
-        items = [reader.expression] if reader.expression is not None else \
-            [item for item in reader.elements or () if isinstance(item, Expression)]
-        if not any(reader.scope.get(local) == name for item in items for local in item.names):
-            continue
+    for reader, _items in table.readers(name):
         breakpoints = base.get(reader.name.rsplit(".", 1)[0] + ".times") if reader.elements is not None else None
         if breakpoints is None:
             return True

@@ -183,6 +183,11 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     return cal
 
 
+def written(value: float, unit: str):
+    """An SI value as a written file gives it: in its display unit ('59.118... bar'), or bare without one."""
+    return value if unit in ("", "1", "SI") else f"{value / display_factor(unit)!r} {unit}"
+
+
 def write_calibrated(cal: Calibration) -> Path | None:
     """``calibrated.yaml``: the final model's netlist with every fitted parameter (the declared free ones,
     the effects found) at its final value and the experiment's overrides in, so that ``vphs run`` simulates
@@ -198,7 +203,7 @@ def write_calibrated(cal: Calibration) -> Path | None:
     one_run = cal.data.kind == "time" and len(cal.data.groups) <= 1  # its fitted inputs are the netlist's too
     kinds = ("declared", "candidate") + (("latent",) if one_run else ())
     values = [(name, value) for name, value in cal.exp.overrides.items()] + [
-        (g.name, float(x[k]) if g.unit in ("", "1", "SI") else f"{float(x[k]) / display_factor(g.unit)!r} {g.unit}")
+        (g.name, written(float(x[k]), g.unit))
         for k, g in enumerate(cal.final.model.layout.globals) if g.kind in kinds]
     if one_run:  # a recorded command: the profile through the fitted knots instead of the recording
         for (profile, _run), (times, knots) in cal.final.model.trace_knots(x).items():
@@ -629,9 +634,7 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
     units = {g.name: g.unit for g in globals_}
     for name in free:  # start where this calibration ended, in the unit the parameter is shown in
         if name in fitted:
-            unit = units.get(name, "")
-            free[name]["initial"] = fitted[name] if unit in ("", "1", "SI") else \
-                f"{fitted[name] / display_factor(unit)!r} {unit}"
+            free[name]["initial"] = written(fitted[name], units.get(name, ""))
     for g in globals_:
         value = fitted.get(g.name, float(g.initial))
         if g.kind == "candidate":

@@ -149,18 +149,26 @@ class ParameterTable:
         dims = self._dims.get(name, FREE)
         return dims if dims is not FREE else self._dimension_from_places(name)
 
+    def readers(self, name: str) -> list[tuple[Entry, list[Expression]]]:
+        """Every entry that reads ``name``, with its expressions that do (its own, or its array's elements)."""
+        out = []
+        for reader in self.entries.values():
+            items = [reader.expression] if reader.expression is not None else \
+                [item for item in reader.elements or () if isinstance(item, Expression)]
+            items = [item for item in items if any(reader.scope.get(local) == name for local in item.names)]
+            if items:
+                out.append((reader, items))
+        return out
+
     def _dimension_from_places(self, name: str) -> Unit | None:
         """The one dimension of the declared-unit places ``name`` is put as it stands (directly or through
         netlist parameters that are it under another name); None if there is none, or more than one. Places
         that say nothing (any unit, inside an expression) are no constraint."""
         fixed = []
-        for reader in self.entries.values():
-            items = [reader.expression] if reader.expression is not None else \
-                [item for item in reader.elements or () if isinstance(item, Expression)]
+        for reader, items in self.readers(name):
             for item in items:
-                if not any(reader.scope.get(local) == name for local in item.names) \
-                        or reader.scope.get(_sole_name(item.tree, reader)) != name or reader.unit == GENERIC:
-                    continue  # not read here, read inside an expression, or a place of any unit
+                if reader.scope.get(_sole_name(item.tree, reader)) != name or reader.unit == GENERIC:
+                    continue  # read inside an expression, or a place of any unit
                 if reader.unit is not None:
                     fixed.append(parse_unit(reader.unit))
                 else:  # a netlist parameter that is this one under another name
