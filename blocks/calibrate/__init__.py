@@ -8,6 +8,7 @@ One straight line, each step a small module:
   normalised residuals with the true inputs as latent values (errors-in-variables), finite differences;
 - :mod:`~blocks.calibrate.fit`: weighted least squares (scipy ``least_squares``), standard errors;
 - :mod:`~blocks.calibrate.stats`: lack of fit (chi^2/nu, Ljung-Box, cross-correlation, per-group drift);
+- :mod:`~blocks.calibrate.run_start`: whether a time series's run starts off the data (its initial state);
 - :mod:`~blocks.calibrate.heldout`: held-out error (leave one group out, k-fold);
 - :mod:`~blocks.calibrate.candidates`: the library of candidate effects, one module each;
 - :mod:`~blocks.calibrate.patch`: netlist edits written as new files;

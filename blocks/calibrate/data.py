@@ -58,6 +58,10 @@ class Dataset:
         return {label: np.array(rows, dtype=int) for label, rows in found.items()}
 
 
+MIXED = " (the files of one experiment are all time series or all steady points)"
+MIN_DIFFERENCES = 5  # second differences that noise: diff estimates a channel's noise from, at least
+
+
 def load_data(exp: Experiment) -> Dataset:
     data = _load_data(exp)
     if data.kind == "time" and len(data.groups) > 1 and exp.exact_columns:
@@ -118,12 +122,12 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     if kind == "steady" and any(c.role == "input" and c.signal is not None for c in exp.channels):
         ch = next(c for c in exp.channels if c.role == "input" and c.signal is not None)
         raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: steady data (no t column in {file.name}) "
-                                             f"impose inputs through 'parameter', not 'signal'")
+                                             f"impose inputs through 'parameter', not 'signal'" + MIXED * several)
     if kind == "time" and any(c.role == "input" and c.parameter is not None for c in exp.channels):
         ch = next(c for c in exp.channels if c.role == "input" and c.parameter is not None)
         raise exp.error(("inputs", ch.name), f"inputs.{ch.name}: {file.name} is a time series (a t column), "
                                              f"which imposes its inputs through a logged 'signal' with 'latent' "
-                                             f"levels, not a 'parameter'")
+                                             f"levels, not a 'parameter'" + MIXED * several)
     n = len(next(iter(table.columns.values()))) if table.columns else 0
     measured = {}
     for ch in exp.channels:
@@ -176,11 +180,8 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
         else:
             if kind != "time":
                 raise exp.error((f"{ch.role}s", ch.name, "noise"), "noise: diff needs a time series; use repeats")
-            sigma[ch.name] = _from_differences(measured[ch.name])
+            sigma[ch.name] = _from_differences(exp, ch, measured[ch.name])
             notes[ch.name] = "estimated from second differences"
-            if not sigma[ch.name] > 0:
-                raise exp.error((f"{ch.role}s", ch.name, "noise"), f"noise: the second differences of "
-                                                                   f"'{ch.name}' are all zero; give the noise")
     return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
 
 
@@ -235,7 +236,7 @@ def _join_runs(exp: Experiment, parts: list[Dataset], files: list) -> Dataset:
         if ch.noise_method == "repeats":
             raise exp.error((f"{ch.role}s", ch.name, "noise"), "noise: repeats needs steady points; use diff")
         if ch.noise_method == "diff":
-            sigma[ch.name] = _from_differences(*(p.measured[ch.name] for p in parts))
+            sigma[ch.name] = _from_differences(exp, ch, *(p.measured[ch.name] for p in parts))
             notes[ch.name] = f"estimated from second differences, pooled over {len(parts)} files"
         else:
             sigma[ch.name], notes[ch.name] = parts[0].sigma[ch.name], parts[0].noise_notes[ch.name]
@@ -290,8 +291,19 @@ def _from_repeats(exp: Experiment, measured: dict, labels: list[str], ch, ids) -
     return float(np.sqrt(ss / dof)), f"estimated from repeated points ({dof} degrees of freedom)"
 
 
-def _from_differences(*series: np.ndarray) -> float:
+def _from_differences(exp: Experiment, ch, *series: np.ndarray) -> float:
+    """The noise of a time series's channel from its second differences, pooled over ``series`` (runs): for
+    white noise sigma, y[k+1] - 2 y[k] + y[k-1] has the deviation sqrt(6) sigma; the median absolute deviation
+    (times 1.4826) estimates it robustly, the signal's own curvature being small between samples."""
     d = np.concatenate([y[2:] - 2.0 * y[1:-1] + y[:-2] for y in series])
-    if d.size < 5:
-        return 0.0
-    return float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(6.0))
+    where = (f"{ch.role}s", ch.name, "noise")
+    if d.size < MIN_DIFFERENCES:
+        raise exp.error(where, f"noise: diff estimates the noise of '{ch.name}' from its second differences, "
+                               f"which needs at least {MIN_DIFFERENCES} of them ({MIN_DIFFERENCES + 2} samples in one "
+                               f"run); the data give {d.size}: give the noise")
+    sigma = float(1.4826 * np.median(np.abs(d - np.median(d))) / np.sqrt(6.0))
+    if not sigma > 0:
+        raise exp.error(where, f"noise: the second differences of '{ch.name}' are the same in over half the samples "
+                               f"(a constant or coarsely quantised column), which gives no noise estimate: give the "
+                               f"noise")
+    return sigma

@@ -32,7 +32,7 @@ import numpy as np
 
 from blocks.calibrate.candidates import registered
 from blocks.calibrate.experiment import Free
-from blocks.calibrate.patch import NetlistDoc
+from blocks.calibrate.patch import NetlistDoc, written
 from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN, z_score
 
 MARGIN = 1.0  # an exchange must lower BIC by more than this
@@ -133,7 +133,7 @@ def rebuild(declared: Path, places, values: dict, target: Path, header: str) -> 
     doc = NetlistDoc.read(declared)
     for place in places:
         if place.kind == "netlist":
-            doc.add_parameter(place.param, values[place.param])
+            doc.add_parameter(place.param, written(float(values[place.param]), place.unit))
             registered()[place.candidate].patch(doc, place)
     doc.write(target, header=header)
     from blocks.circuit import Circuit

@@ -219,7 +219,10 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
     try:
         return ExperimentSpec.model_validate(located.data), located
     except ValidationError as exc:
-        first = exc.errors()[0]
+        errors = exc.errors()
+        first = errors[0]
+        if isinstance(first.get("input"), list):  # a union (data: a file or a list): its list branch's error
+            first = next((e for e in errors if any(str(p).startswith("list[") for p in e["loc"])), first)
         path = document_path(located.data, first["loc"])
         where = ".".join(shown_key(p) for p in path) or "experiment"
         message = first["msg"]
@@ -231,6 +234,8 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
                 message += f" (allowed: {', '.join(near or sorted(model.model_fields))})"
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
+        elif first["type"] == "too_short" and isinstance(first.get("input"), list):
+            message = f"an empty list: give at least {first['ctx']['min_length']} entry"
         elif first["type"] == "model_type":  # pydantic names its class ("a valid dictionary or instance of X")
             model = _model_at(tuple(path))
             message = "expected a mapping" + (f" with keys {', '.join(model.model_fields)}" if model else "") + \

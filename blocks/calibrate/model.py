@@ -50,6 +50,7 @@ linearly onto the data's times, which must lie inside the simulated span.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from pathlib import Path
 
 import numpy as np
 
@@ -127,12 +128,7 @@ class Model:
         self.settings = settings.with_(**changes)
         self.runs = data.groups if data.kind == "time" else {}  # a time series: its runs (one unless grouped)
         for label, idx in self.runs.items():
-            first, last = data.t[idx[0]], data.t[idx[-1]]
-            if first < self.settings.t_start - 1e-12 or last > self.settings.t_end + 1e-12:
-                run = f" (run '{label}')" if len(self.runs) > 1 else ""
-                raise VphsError(f"{exp.file}: the data's times {first:g} ... {last:g} s{run} lie outside the "
-                                f"simulated span {self.settings.t_start:g} ... {self.settings.t_end:g} s of "
-                                f"{exp.spec.netlist}")
+            self._check_span(label, idx)
         # residual rows: channel-major, one row per point (or sample) per channel
         self.channels = list(exp.channels)
         n = data.n
@@ -155,6 +151,25 @@ class Model:
         self.simulations = 0
         self.equilibria = 0  # Newton solves
         self.fallbacks = 0  # evaluations of a point with a reference equilibrium that fell back to a run
+
+    def _check_span(self, label: str, idx: np.ndarray) -> None:
+        """A run's samples must lie inside the simulated span: the error names the first sample outside it by
+        its file and line (a run of several files is its file, named by its stem)."""
+        from blocks.datafile import read_table
+
+        t, t0, t1 = self.data.t[idx], self.settings.t_start, self.settings.t_end
+        outside = np.nonzero((t < t0 - 1e-12) | (t > t1 + 1e-12))[0]
+        if outside.size == 0:
+            return
+        k = int(outside[0])
+        message = (f"t = {t[k]:g} s lies outside the simulated span {t0:g} ... {t1:g} s of {self.exp.spec.netlist} "
+                   f"(the run's times: {t[0]:g} ... {t[-1]:g} s); set the netlist's simulation: t_start and t_end "
+                   f"to cover the data, or cut the data to the span")
+        files = self.exp.data_files
+        if len(files) <= 1:
+            raise self.data.table.error(message, "t", int(idx[k]))
+        file = next(f for f in files if label in (Path(f).stem, str(f)))
+        raise read_table(file).error(message, "t", k)
 
     # ---- the parameter vector -------------------------------------------------------------------------
     def initial(self) -> np.ndarray:

@@ -18,6 +18,7 @@ import yaml
 
 from blocks.netlist.yaml_source import read_yaml
 from blocks.result import atomic_write_text
+from blocks.units import display_factor
 
 
 class NetlistDoc:
@@ -142,3 +143,8 @@ def _rebase(data: dict, old: Path, new: Path) -> dict:
             if isinstance(value, dict) and isinstance(value.get("csv"), str):
                 value["csv"] = move(value["csv"])
     return data
+
+
+def written(value: float, unit: str):
+    """An SI value as a written file gives it: in its display unit ('59.118... bar'), or bare without one."""
+    return value if unit in ("", "1", "SI") else f"{value / display_factor(unit)!r} {unit}"

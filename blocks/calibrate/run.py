@@ -42,12 +42,12 @@ from blocks.calibrate.heldout import HeldOut, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
-from blocks.calibrate.patch import NetlistDoc
+from blocks.calibrate.patch import NetlistDoc, written
+from blocks.calibrate.run_start import initial_values, start_misfits
 from blocks.calibrate.screening import Score, screen
 from blocks.calibrate.selection import Decision, decide
 from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
 from blocks.result import atomic_write_text
-from blocks.units import display_factor
 
 GROSS_MISFIT = 100.0  # final chi^2/nu beyond which the verdict asks to check the experiment before the effects
 # (the thesis's real data start at 29.5 with the flow force missing; a pressure read as a flow gave 1e6)
@@ -144,7 +144,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         globals_ = globals_ + [free_of(place, acc.phi, acc.score.step)]
         if place.kind == "netlist":
             doc = NetlistDoc.read(netlist)
-            doc.add_parameter(place.param, float(acc.phi))
+            doc.add_parameter(place.param, written(float(acc.phi), place.unit))
             registered()[place.candidate].patch(doc, place)
             target = out / f"round{k}" / "augmented.yaml"
             doc.write(target, header=augmented_header(exp, cal, netlist))
@@ -181,11 +181,6 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
-
-
-def written(value: float, unit: str):
-    """An SI value as a written file gives it: in its display unit ('59.118... bar'), or bare without one."""
-    return value if unit in ("", "1", "SI") else f"{value / display_factor(unit)!r} {unit}"
 
 
 def write_calibrated(cal: Calibration) -> Path | None:
@@ -346,8 +341,8 @@ def latent_globals(exp: Experiment, data: Dataset, held: list[str] | None = None
                     if held is not None:
                         held.append(label)
                     continue
-                out.append(Free(label, start, -np.inf, np.inf, 0.1 * sigma,
-                                display_unit(table.entries[name]), "latent", run=run))
+                out.append(Free(label, start, -np.inf, np.inf, 0.1 * sigma,  # a bare level: its column's unit
+                                display_unit(table.entries[name]) or ch.unit, "latent", run=run))
         if ch.trace is not None:
             times = np.asarray(values[ch.trace.rsplit(".", 1)[0] + ".times"], dtype=float)
             if runs != [None] and not np.all(np.diff(times) > 0):
@@ -580,6 +575,7 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
                              f"an effect of the library leaves unexplained: check the experiment first (units, "
                              f"overrides, the groups' values, which columns are imposed); an effect found on such "
                              f"a fit explains a sliver of the misfit and is not to be read as measured")
+            lines += [f"  {m.line(initial_values(cal.final))}" for m in start_misfits(cal.final)]
             exact = cal.exp.exact_columns
             if exact:
                 lines.append("  the netlist imposes " + ", ".join(f"the column {c} ({p})" for c, p in exact)
@@ -637,8 +633,9 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
             free[name]["initial"] = written(fitted[name], units.get(name, ""))
     for g in globals_:
         value = fitted.get(g.name, float(g.initial))
-        if g.kind == "candidate":
-            free[g.name] = {"initial": value, "lower": float(g.lower), "upper": float(g.upper)}
+        if g.kind == "candidate":  # in its SI unit, which a rerun shows it in
+            free[g.name] = {key: written(v, g.unit) for key, v in
+                            (("initial", value), ("lower", float(g.lower)), ("upper", float(g.upper)))}
         elif g.kind == "correction":
             what, ch = g.name.split(":", 1)
             corrections.setdefault(ch, {})[what] = value

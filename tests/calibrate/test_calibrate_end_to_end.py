@@ -155,6 +155,16 @@ def test_time_series_coulomb_friction_is_found(tmp_path):
     predicted = cal.data.measured["speed"] + fit.r[rows] * cal.data.sigma["speed"]
     run = Circuit.from_file(cal.calibrated).simulate()
     assert np.allclose(np.interp(cal.data.t, run.t, run["speed"]), predicted, atol=1e-3 * cal.data.sigma["speed"])
+    # the effect's parameter is written in its unit, in the round's netlist and as the written experiment's
+    # start and bounds (a rerun used to show it in "SI"); the levels of the dimensionless command in "1"
+    value = cal.final.fit.x[k]
+    augmented = yaml.safe_load(cal.rounds[0].augmented_file.read_text())["parameters"]["cal_Tc_shaft"]
+    assert augmented.endswith(" N*m") and float(augmented.split()[0]) == cal.rounds[0].decision.accepted.phi
+    free = yaml.safe_load((tmp_path / "out" / "experiment_augmented.yaml").read_text())["free"]["cal_Tc_shaft"]
+    assert free["initial"].endswith(" N*m") and free["lower"] == "0.0 N*m"
+    assert float(free["initial"].split()[0]) == pytest.approx(value, rel=1e-6)
+    rows = {p["name"]: p for p in build(cal)["parameters"]}
+    assert rows["u1"]["unit"] == "1" and rows["cal_Tc_shaft"]["unit"] == "N*m"
 
 
 def test_alternatives_the_data_cannot_tell_apart_are_reported_as_ambiguous(tmp_path):

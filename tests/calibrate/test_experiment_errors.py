@@ -78,6 +78,7 @@ CASES = {
     "a latent trace of a steady parameter": (changed(**{"inputs": {"Q": {"parameter": "Q_in", "latent": "trace",
                                                                         "noise": "0.5 l/min"}}}),
                                              r"inputs\.Q\.latent: 'trace' is for the recorded input of a time series"),
+    "no data files": (changed(data=[]), r"data: an empty list: give at least 1 entry$"),  # not "a valid string"
 }
 
 

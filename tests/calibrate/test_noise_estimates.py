@@ -87,3 +87,31 @@ def test_diff_recovers_white_noise_on_a_signal_with_steps(tmp_path):
     data = load_data(load_experiment(tmp_path / "exp.yaml"))
     assert data.sigma["pA"] / 0.7e5 == pytest.approx(1.0, abs=0.04)
     assert data.noise_notes["pA"] == "estimated from second differences"
+
+
+def _diff_series(tmp_path, pA: list[float], files: int = 1):
+    """A time series of ``pA`` (bar) at 10 ms, noise: diff, as one file or the same rows in several files."""
+    lines = [f"{0.01 * k:.2f},0,{p}" for k, p in enumerate(pA)]
+    names = [f"run{j}.csv" for j in range(files)]
+    for name in names:
+        (tmp_path / name).write_text("t [s],cmd [1],pA [bar]\n" + "\n".join(lines) + "\n")
+    spec = {"netlist": str(DRIVE), "data": names[0] if files == 1 else names,
+            "inputs": {"cmd": {"signal": "cmd", "latent": ["u1"], "noise": 0.01}},
+            "outputs": {"pA": {"signal": "pA", "noise": "diff"}}}
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec))
+    return load_data(load_experiment(tmp_path / "exp.yaml"))
+
+
+def test_diff_that_cannot_give_a_noise_says_why(tmp_path):
+    """Too few samples used to be reported as second differences that 'are all zero'; and runs of several files
+    pooled to a zero noise went on to divide by it."""
+    noisy = list(20 + np.random.default_rng(2).normal(size=7))
+    assert _diff_series(tmp_path, noisy).sigma["pA"] > 0  # 7 samples: 5 second differences
+    with pytest.raises(VphsError, match=r"exp\.yaml:\d+:\d+: noise: diff estimates the noise of 'pA' from its second "
+                                        r"differences, which needs at least 5 of them \(7 samples in one run\); the "
+                                        r"data give 4: give the noise"):
+        _diff_series(tmp_path, noisy[:6])
+    with pytest.raises(VphsError, match=r"noise: the second differences of 'pA' are the same in over half the samples"):
+        _diff_series(tmp_path, [20.0] * 6 + [21.0] * 4)  # a quantised step: one difference of 1, one of -1
+    with pytest.raises(VphsError, match=r"noise: the second differences of 'pA' are the same in over half"):
+        _diff_series(tmp_path, [20.0] * 10, files=2)

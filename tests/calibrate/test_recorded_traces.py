@@ -61,7 +61,8 @@ def test_a_column_read_from_another_file_is_not_the_datas(tmp_path):
 def test_a_remaining_discrepancy_points_at_the_exact_column():
     final = SimpleNamespace(fit=SimpleNamespace(converged=True, inflation=2.26, failed_rows=0, n=6804,
                                                 run_failure=lambda: ""),
-                            model=SimpleNamespace(layout=SimpleNamespace(globals=[])),
+                            model=SimpleNamespace(layout=SimpleNamespace(globals=[]),  # no run starts off
+                                                  data=SimpleNamespace(kind="steady")),
                             lof=SimpleNamespace(significant=lambda: ["chi^2/nu = 2.26 (p = 0)"]))
     cal = SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[],
                           exp=SimpleNamespace(exact_columns=[("cmd", "cmd.values")]))

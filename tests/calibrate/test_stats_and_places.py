@@ -225,7 +225,8 @@ def test_a_gross_misfit_asks_to_check_the_experiment_before_the_effects(reduced)
     final = SimpleNamespace(fit=SimpleNamespace(converged=True, inflation=reduced, failed_rows=0, n=63,
                                                 run_failure=lambda: ""),
                             lof=SimpleNamespace(significant=lambda: [f"chi^2/nu = {reduced:.3g}"]),
-                            model=SimpleNamespace(layout=SimpleNamespace(globals=[])))
+                            model=SimpleNamespace(layout=SimpleNamespace(globals=[]),
+                                                  data=SimpleNamespace(kind="steady")))
     cal = SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], exp=SimpleNamespace(exact_columns=[]),
                           accepted=[("line_loss_laminar@relief.b", "laminar line loss", "at relief.b",
                                      "cal_kl_relief_b", 2.0e9, 3.8e8, "Pa*s/m^3")])
@@ -257,7 +258,7 @@ def test_failed_runs_are_named_in_the_verdict_not_read_as_a_gross_misfit():
         return np.append(x[0] - y, FAILED_RESIDUAL)
 
     model = SimpleNamespace(
-        n_rows=10, data=SimpleNamespace(kind="time"), failures=[], residuals=residuals,
+        n_rows=10, data=SimpleNamespace(kind="time", n=10), runs={}, failures=[], residuals=residuals,
         jacobian=lambda x, cols, points, r0: np.append(np.ones(9), 0.0)[:, None][:, cols],
         bounds=lambda: (np.array([-10.0]), np.array([10.0])), steps=lambda: np.array([1e-6]),
         layout=SimpleNamespace(globals=[Free("a", 0.0, -10, 10, 1e-6, "1")]))

@@ -161,6 +161,28 @@ def test_the_runs_of_several_files_are_named_by_their_files(runs_dir, tmp_path, 
         in err, err
 
 
+def test_a_sample_outside_the_simulated_span_is_located_by_its_file_and_line(runs_dir, tmp_path, capsys):
+    """The netlist simulates 0 ... 3.4 s. A sample past it used to be reported as "the data's times 0 ... 3.402
+    s (run 'b') lie outside the simulated span", naming neither file nor line."""
+    rows = (runs_dir / "runs.csv").read_text().splitlines()
+    (tmp_path / "runs.csv").write_text("\n".join(rows + ["b,3.402000,0,0,20,20"]) + "\n")
+    code = cli.main(["calibrate", str(_experiment(tmp_path)), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err == (f"vphs: {tmp_path / 'runs.csv'}:{len(rows) + 1}:2: column 't [s]': t = 3.402 s lies "
+                                 f"outside the simulated span 0 ... 3.4 s of {NETLIST} (the run's times: 0 ... 3.402 "
+                                 f"s); set the netlist's simulation: t_start and t_end to cover the data, or cut the "
+                                 f"data to the span"), err
+    _split_files(runs_dir, tmp_path)
+    lines = (tmp_path / "b.csv").read_text().splitlines()
+    (tmp_path / "b.csv").write_text("\n".join(lines[:1] + ["-0.002,0,0,20,20"] + lines[1:]) + "\n")
+    code = cli.main(["calibrate", str(_experiment(tmp_path, data=["a.csv", "b.csv"], group=None)),
+                     "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err.startswith(f"vphs: {tmp_path / 'b.csv'}:2:1: column 't [s]': t = -0.002 s lies outside "
+                                        f"the simulated span 0 ... 3.4 s"), err
+    assert not (tmp_path / "out").exists()
+
+
 def test_time_series_and_steady_points_do_not_mix(runs_dir, tmp_path, capsys):
     _split_files(runs_dir, tmp_path)
     (tmp_path / "steady.csv").write_text("speed [rpm],pA [bar],pB [bar]\n100,20,20\n")
@@ -169,6 +191,12 @@ def test_time_series_and_steady_points_do_not_mix(runs_dir, tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert code == 2 and re.search(r"exp\.yaml:\d+:\d+: data: a\.csv is a time series, other files are steady "
                                    r"points", err), err
+    path = _experiment(tmp_path, data=["steady.csv", "a.csv"], group=None, groups={}, drift=[])  # cmd a signal
+    code = cli.main(["calibrate", str(path), "-o", str(tmp_path / "out")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err.endswith("inputs.cmd: steady data (no t column in steady.csv) impose inputs through "
+                                      "'parameter', not 'signal' (the files of one experiment are all time series "
+                                      "or all steady points)"), err
 
 
 def _recorded_runs(runs_dir: Path, tmp_path: Path, **changes) -> Path:
