@@ -136,7 +136,7 @@ def cmd_validate(args) -> int:
 
 def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
     """``name=value`` pairs; the value may carry a unit, checked against the parameter's declared unit."""
-    from blocks.units import UnitError, parse_unit, quantity, split_quantity
+    from blocks.units import UnitError
 
     overrides = {}
     entries = circuit.flat.parameters.entries
@@ -155,14 +155,7 @@ def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
         if getattr(entry.bounds, "array", False) or entry.elements is not None or isinstance(entry.constant, tuple):
             raise ArgumentError(f"vphs: --set '{pair}': {name} is an array (a table); change it in the netlist")
         try:
-            number, unit_text = split_quantity(raw)
-            if entry.unit is None:  # a netlist parameter: its written unit, if it has one, fixes the dimension
-                given = parse_unit(unit_text)
-                if unit_text and entry.dims is not None and not given.same_dimension(entry.dims):
-                    raise UnitError(f"wrong unit '{unit_text}': {name} is in {entry.dims.describe_dims()}")
-                overrides[name] = number * given.factor
-            else:
-                overrides[name] = quantity(raw if not _is_number(raw) else float(raw), entry.unit)
+            overrides[name] = circuit.flat.parameters.value_si(name, raw)
         except UnitError as exc:
             raise ArgumentError(f"vphs: --set '{pair}': {exc}") from None
         if entry.bounds is not None:

@@ -312,7 +312,12 @@ def file_format() -> str:
         "parameter that uses them checks the dimension. Every value has a qualified name that `vphs run "
         "--set` overrides, everything depending on it following: `m_load`, `valve.A_max`, "
         "`bridge.valve.A_max` (inside subsystem `bridge`), `A.volume`, `A.initial`, `valve.initial.x`, "
-        "`fluid.rho`.",
+        "`fluid.rho`. A value given from outside (`--set`, a job's `set:` and bounds, an experiment's "
+        "overrides) may carry a unit too, checked against the parameter's declared unit, the unit its value is "
+        "written in, or for a bare number the dimension its readers take it in: `n_gear` in `J: \"0.085 + "
+        "m_load*r_pinion**2/n_gear**2\"` is a plain number, so `--set \"n_gear=39 rpm\"` is an error. A bare "
+        "number read only where any unit goes (a generic signal block's `SI` parameter) takes any unit, "
+        "converted to SI unchecked.",
         "",
         "### Fluid and defaults",
         "",

@@ -20,7 +20,8 @@ class NetlistError(VphsError):
             where += f":{self.line}"
             if self.column is not None:
                 where += f":{self.column}"
-        return f"{where}: {self.message}"
+        # one line whatever the file held: a value's text quoted in the message may contain line breaks
+        return f"{where}: {self.message}".replace("\r", "\\r").replace("\n", "\\n")
 
 
 class SimulationError(VphsError):

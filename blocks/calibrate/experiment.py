@@ -294,7 +294,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
 
     def si(name: str, raw, path: tuple) -> float:
         try:
-            return value_si(raw, entries[name])
+            return circuit.flat.parameters.value_si(name, raw)
         except UnitError as exc:
             raise located.error(path, f"{name}: {exc}") from None
 
@@ -570,19 +570,6 @@ def noise_si(raw, channel: Channel) -> float:
     if problem:
         raise UnitError(f"wrong unit: '{raw}' is {problem}")
     return number * parse_unit(unit_text).factor
-
-
-def value_si(raw, entry) -> float:
-    """A value as written in an experiment file, in SI for the parameter ``entry`` (its declared unit, or
-    for a netlist parameter the dimension it was written with)."""
-    if entry.unit not in (None, "SI"):
-        return quantity(raw, entry.unit)
-    value = _free_si(raw)
-    if isinstance(raw, str) and entry.dims is not None:
-        _, unit = split_quantity(raw)
-        if unit and not parse_unit(unit).same_dimension(entry.dims):
-            raise UnitError(f"wrong unit '{unit}': {entry.name} is written in {entry.dims.describe_dims()}")
-    return value
 
 
 def display_unit(entry) -> str:

@@ -149,6 +149,49 @@ class ParameterTable:
         dims = self._dims.get(name, FREE)
         return dims if dims is not FREE else self._dimension_from_places(name)
 
+    def value_si(self, name: str, raw) -> float:
+        """A value given for ``name`` from outside the netlist (``--set``, a job, an experiment file) in SI: a
+        number is SI; ``"<number> <unit>"`` is converted, its unit checked against the dimension the netlist
+        gives ``name``: its declared unit, the unit its value is written in, or for a bare number the
+        dimension its readers take it in (``n_gear`` in ``J: "0.085 + m*r**2/n_gear**2"`` must be a plain
+        number for J to be a moment of inertia; ``"39 rpm"`` is refused, where it used to be read as 4.08).
+        A unit no reader constrains (a bare number put only where any unit goes) is converted unchecked.
+        Raises UnitError (no location: the caller names where the value was given)."""
+        entry = self.entries[name]
+        if entry.unit not in (None, GENERIC):
+            return quantity(raw, entry.unit)
+        if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
+            raise UnitError(f"expected a number or a '<number> <unit>' string, got {raw!r}")
+        if not isinstance(raw, str):
+            return float(raw)
+        number, unit_text = split_quantity(raw)
+        if not unit_text:
+            return number
+        given = parse_unit(unit_text)
+        if entry.dims is not FREE:
+            if not given.same_dimension(entry.dims):
+                raise UnitError(f"wrong unit '{unit_text}': {name} is in {entry.dims.describe_dims()}")
+        else:
+            conflict = self._conflict(name, given)
+            if conflict:
+                raise UnitError(f"wrong unit '{unit_text}': with {name} in {given.describe_dims()}, {conflict}")
+        return number * given.factor
+
+    def _conflict(self, name: str, dims: Unit) -> str | None:
+        """What a bare number's readers say against it being in ``dims`` (None: nothing): the dimension check
+        of the whole table, rerun with ``name`` written in ``dims``."""
+        entry = self.entries[name]
+        order = self.order()
+        entry.dims = dims
+        try:
+            self._check_dimensions(order)
+        except NetlistError as exc:
+            return f"{exc.message} (at {exc.file}:{exc.line})" if exc.line is not None else exc.message
+        finally:
+            entry.dims = FREE
+            self._check_dimensions(order)
+        return None
+
     def readers(self, name: str) -> list[tuple[Entry, list[Expression]]]:
         """Every entry that reads ``name``, with its expressions that do (its own, or its array's elements)."""
         out = []

@@ -338,7 +338,8 @@ class _Resolver:
         if not netlist.is_file():
             raise self.error(("netlist",), f"netlist: file not found: {netlist}")
         self.circuit = Circuit.from_file(netlist, compile=False)
-        self.entries = self.circuit.flat.parameters.entries
+        self.table = self.circuit.flat.parameters
+        self.entries = self.table.entries
         name = m.name or Path(self.located.file).stem
         fixed = {k: self.value(k, raw, ("set", k)) for k, raw in m.set.items()}
         free = [self.free_param(k, p) for k, p in m.parameters.items()]
@@ -397,19 +398,7 @@ class _Resolver:
         entry = self.entry(name, path[:-1] if path[-1] in ("min", "max") else path)
         where = ".".join(shown_key(p) for p in path)
         try:
-            if entry.unit not in (None, GENERIC):
-                value = quantity(raw, entry.unit)
-            elif isinstance(raw, (int, float)) and not isinstance(raw, bool):
-                value = float(raw)
-            elif isinstance(raw, str):
-                number, unit_text = split_quantity(raw)
-                unit = parse_unit(unit_text)
-                if unit_text and entry.dims is not None and not unit.same_dimension(entry.dims):
-                    raise UnitError(f"wrong unit: '{raw}' is in {unit.describe_dims()}, {name} in "
-                                    f"{entry.dims.describe_dims()}")
-                value = number * unit.factor
-            else:
-                raise UnitError(f"expected a number or a '<number> <unit>' string, got {raw!r}")
+            value = self.table.value_si(name, raw)
         except UnitError as exc:
             raise self.error(path, f"{where}: {exc}") from None
         if not math.isfinite(value):

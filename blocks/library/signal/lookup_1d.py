@@ -21,7 +21,7 @@ class Lookup1D(Block):
     params = (
         Param("x_table", "SI", None, None, None, "breakpoints, strictly increasing (SI)", array=True),
         Param("y_table", "SI", None, None, None, "table values at the breakpoints (SI)", array=True),
-        Param("extrapolate", "SI", 0.0, 0.0, 1.0, "outside the table: 0 hold end value, 1 linear", integer=True),
+        Param("extrapolate", "1", 0.0, 0.0, 1.0, "outside the table: 0 hold end value, 1 linear", integer=True),
     )
 
     @staticmethod

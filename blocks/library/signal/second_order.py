@@ -17,7 +17,7 @@ class SecondOrder(Block):
     ports = (signal_in("u", "input"), signal_out("y", "output"))
     params = (
         Param("wn", "rad/s", None, 1e-6, None, "natural angular frequency"),
-        Param("zeta", "SI", 1.0, 0.0, None, "damping ratio"),
+        Param("zeta", "1", 1.0, 0.0, None, "damping ratio"),
         Param("k", "SI", 1.0, None, None, "static gain"),
     )
     states = (

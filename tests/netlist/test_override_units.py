@@ -1,0 +1,82 @@
+"""A value given from outside a netlist (--set, a job's set:, an experiment's overrides) is checked against
+the dimension the netlist gives its parameter, a bare number's included: the dimension its readers take it
+in (ParameterTable.value_si). Found by a usability review: `--set "n_gear=39 rpm"` ran with n = 4.08 and
+`--set "spool.zeta=0.9 bar"` with a damping ratio of 90000, both to exit 0."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+import yaml
+
+import cli
+from blocks.circuit import Circuit
+from blocks.errors import NetlistError
+from blocks.units import UnitError
+
+ROOT = Path(__file__).resolve().parents[2]
+DRIVE = ROOT / "netlists" / "examples" / "drive_line.yaml"
+
+
+@pytest.fixture(scope="module")
+def table():
+    return Circuit.from_file(DRIVE, compile=False).flat.parameters
+
+
+def test_a_bare_number_takes_the_dimension_its_readers_give_it(table):
+    # bridge.J = 0.085 + m_load*r_pinion**2/n_gear**2 is a moment of inertia only with n_gear a plain number
+    assert table.value_si("n_gear", "39") == 39.0 and table.value_si("n_gear", 39) == 39.0
+    assert table.value_si("n_gear", "3900 %") == pytest.approx(39.0)
+    with pytest.raises(UnitError, match=r"wrong unit 'rpm': with n_gear in s\^-1\*rad, bridge\.J: wrong unit: "
+                                        r"'0\.085 \+ m_load\*r_pinion\*\*2/n_gear\*\*2' is in .*, expected kg\*m\^2 "
+                                        r"\(at .*drive_line\.yaml:\d+\)"):
+        table.value_si("n_gear", "39 rpm")
+    assert table.value_si("n_gear", "39") == 39.0  # the failed check left the table as it was
+    # a written unit fixes the dimension; a declared one too
+    assert table.value_si("m_load", "15 t") == 15000.0
+    with pytest.raises(UnitError, match=r"wrong unit 'bar': m_load is in kg"):
+        table.value_si("m_load", "15 bar")
+    with pytest.raises(UnitError, match=r"wrong unit 'bar'"):
+        table.value_si("spool.zeta", "0.9 bar")  # a damping ratio is declared dimensionless
+    with pytest.raises(UnitError, match=r"expected a number"):
+        table.value_si("n_gear", True)
+    # a bare number read only where any unit goes (a generic gain of the controller): converted, unchecked
+    assert table.value_si("Kp", "4 1/mm") == pytest.approx(4000.0)
+
+
+def test_set_of_a_unit_the_netlist_contradicts_is_refused(capsys, tmp_path):
+    code = cli.main(["run", str(DRIVE), "--set", "n_gear=39 rpm", "-o", str(tmp_path / "r.csv")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1 and err.startswith("vphs: --set 'n_gear=39 rpm': wrong unit 'rpm'")
+    assert not (tmp_path / "r.csv").exists()
+
+
+def test_a_netlist_that_writes_a_damping_ratio_in_bar_is_refused(tmp_path):
+    doc = yaml.safe_load(DRIVE.read_text())
+    doc["components"]["spool"]["params"]["zeta"] = "0.9 bar"
+    (tmp_path / "net.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    with pytest.raises(NetlistError, match=r"net\.yaml:\d+:\d+: .*zeta.*wrong unit 'bar'"):
+        Circuit.from_file(tmp_path / "net.yaml", compile=False)
+
+
+def test_a_jobs_set_value_is_checked_the_same_way(tmp_path, capsys):
+    job = yaml.safe_load((ROOT / "netlists" / "jobs" / "drive_line_controller.yaml").read_text())
+    job.update(netlist=str(ROOT / "netlists" / "opt" / "drive_line.yaml"), output=str(tmp_path / "out"))
+    job.setdefault("set", {})["n_gear"] = "39 rpm"
+    (tmp_path / "job.yaml").write_text(yaml.safe_dump(job, sort_keys=False))
+    code = cli.main(["optimise", str(tmp_path / "job.yaml")])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and len(err.splitlines()) == 1, err
+    assert "job.yaml:" in err and "set.n_gear: wrong unit 'rpm': with n_gear in s^-1*rad, bridge.J" in err, err
+
+
+def test_a_line_break_inside_a_value_stays_in_a_one_line_message(tmp_path):
+    """Found by the netlist fuzz test: a quoted value with a blank line in it ('7500 k\\n\\ng' in YAML reads
+    as '7500 k\\ng') was quoted into the message as it stands, and the message spanned two lines."""
+    text = DRIVE.read_text().replace('m_load: "7500 kg"', 'm_load: "7500 k\n\ng"')
+    assert text != DRIVE.read_text()
+    (tmp_path / "net.yaml").write_text(text)
+    with pytest.raises(NetlistError) as caught:
+        Circuit.from_file(tmp_path / "net.yaml", compile=False)
+    assert len(str(caught.value).splitlines()) == 1 and "7500 k\\ng" in str(caught.value), str(caught.value)
