@@ -218,11 +218,17 @@ def cmd_run(args) -> int:
         raise ArgumentError(f"vphs: {exc.args[0]}") from None
     for warning in result.warnings:
         print(f"vphs: warning: {warning}", file=sys.stderr)
-    if args.output:
-        result.write_csv(args.output)
-    else:
+    if not args.output:
         sys.stdout.write(result.to_csv_text())
-    if args.plot:
+    if args.output and args.plot:  # both or neither: never a CSV of this run beside a plot of the last
+        from blocks.result import write_together
+
+        text = result.to_csv_text()
+        write_together((Path(args.output), lambda tmp: tmp.write_text(text, encoding="utf-8")),
+                       (Path(args.plot), lambda tmp: result.plot(tmp)))
+    elif args.output:
+        result.write_csv(args.output)
+    elif args.plot:
         result.plot(args.plot)
     if not args.quiet:
         stats = ", ".join(f"{k} {v}" for k, v in result.stats.items())

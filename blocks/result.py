@@ -83,8 +83,10 @@ class Result:
         axes[-1, 0].set_xlabel("t [s]")
         fig.suptitle(title or Path(self.file).name)
         fig.tight_layout()
-        atomic_write_figure(fig, Path(path))
-        plt.close(fig)
+        try:
+            atomic_write_figure(fig, Path(path))
+        finally:
+            plt.close(fig)
 
 
 def _umask_mode() -> int:
@@ -94,26 +96,40 @@ def _umask_mode() -> int:
 
 
 def atomic_write_text(path: Path, text: str) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        os.chmod(tmp, _umask_mode())  # mkstemp makes 0600; a result file is as readable as any other
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
+    write_together((Path(path), lambda tmp: tmp.write_text(text, encoding="utf-8")))
 
 
 def atomic_write_figure(fig, path: Path) -> None:
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix or ".png")
-    os.close(fd)
+    write_together((Path(path), lambda tmp: fig.savefig(tmp, dpi=110)))
+
+
+def write_together(*files) -> None:
+    """Write files as one: each ``(path, write)`` pair's ``write(tmp)`` fills a temporary file beside its
+    target (of the target's suffix, which matplotlib reads the format from), and only when every one is
+    written are they renamed into place, with Ctrl-C held off for those renames. An error or an interrupt
+    before then leaves every target as it was: a results CSV and its plot are never of two different runs."""
+    import signal
+    import threading
+
+    staged: list[tuple[Path, Path]] = []
     try:
-        fig.savefig(tmp, dpi=110)
-        os.chmod(tmp, _umask_mode())
-        os.replace(tmp, path)
+        for path, write in files:
+            path.parent.mkdir(parents=True, exist_ok=True)
+            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix or ".tmp")
+            os.close(fd)
+            staged.append((Path(tmp), path))
+            write(Path(tmp))
+            os.chmod(tmp, _umask_mode())  # mkstemp makes 0600; a result file is as readable as any other
+        held = threading.current_thread() is threading.main_thread()
+        if held:
+            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            for tmp, path in staged:
+                os.replace(tmp, path)
+        finally:
+            if held:
+                signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
     except BaseException:
-        Path(tmp).unlink(missing_ok=True)
+        for tmp, _ in staged:
+            tmp.unlink(missing_ok=True)
         raise
