@@ -19,6 +19,7 @@ from __future__ import annotations
 import argparse
 import os
 import sys
+import tempfile
 from pathlib import Path
 
 EXIT_FAILED, EXIT_BAD_INPUT = 1, 2
@@ -134,23 +135,26 @@ def cmd_validate(args) -> int:
     return 0
 
 
-def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
-    """``name=value`` pairs; the value may carry a unit, checked against the parameter's declared unit."""
+def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] | None = None) -> dict[str, float]:
+    """``name=value`` pairs; the value may carry a unit, checked against the parameter's declared unit.
+
+    ``setting_options`` maps a simulation setting to the command's option that sets it (run: t_end to
+    --t-end), for the hint when such a setting is given to --set as if it were a parameter."""
     from blocks.units import UnitError
 
-    overrides = {}
+    overrides, written = {}, {}
     entries = circuit.flat.parameters.entries
     for pair in pairs:
         name, sep, raw = pair.partition("=")
         name, raw = name.strip(), raw.strip()
         if not sep or not name or not raw:
             raise ArgumentError(f"vphs: --set '{pair}': expected NAME=VALUE")
+        if name in written:
+            raise ArgumentError(f"vphs: --set: '{name}' is set twice ({written[name]}, then {raw})")
+        written[name] = raw
         if name not in entries:
-            from blocks.units import nearest
-
-            hint = nearest(name, entries)
             raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
-                                + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+                                + _unknown_parameter_hint(name, entries, setting_options or {}))
         entry = entries[name]
         if getattr(entry.bounds, "array", False) or entry.elements is not None or isinstance(entry.constant, tuple):
             raise ArgumentError(f"vphs: --set '{pair}': {name} is an array (a table); change it in the netlist")
@@ -165,11 +169,28 @@ def parse_overrides(pairs: list[str], circuit) -> dict[str, float]:
     return overrides
 
 
+def _unknown_parameter_hint(name: str, entries, setting_options: dict[str, str]) -> str:
+    """' (did you mean ...?)', or for a simulation setting where it is set instead; '' if nothing fits."""
+    from blocks.netlist.spec import Simulation
+    from blocks.units import nearest
+
+    setting = name.removeprefix("simulation.")
+    if setting in Simulation.model_fields:
+        option = setting_options.get(setting)
+        return (f" (the simulation's {setting} is set with {option})" if option else
+                f" ({setting} is a simulation setting: change it in the netlist's simulation: section)")
+    hint = nearest(name, entries)
+    return f" (did you mean {', '.join(hint)}?)" if hint else ""
+
+
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
-def check_output_paths(csv_path: str | None, plot_path: str | None) -> None:
-    """Before any work: each output names a file in a folder that exists (or can be made), plots a format."""
+def check_output_paths(csv_path: str | None, plot_path: str | None, plot_option: str = "--plot") -> None:
+    """Before any work: each output names a file in a folder that exists (or can be made), plots a format.
+
+    The folder is tried with a nameless temporary file: a folder that looks writable may still refuse
+    new files (/proc, a read-only mount as root). ``plot_option`` is the option the plot was given with."""
     for target in (csv_path, plot_path):
         if not target:
             continue
@@ -179,8 +200,14 @@ def check_output_paths(csv_path: str | None, plot_path: str | None) -> None:
         parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
         if not parent.is_dir() or not os.access(parent, os.W_OK):
             raise ArgumentError(f"vphs: cannot write '{target}': {parent} is not a writable folder")
+        try:
+            with tempfile.TemporaryFile(dir=parent):
+                pass
+        except OSError as exc:
+            raise ArgumentError(f"vphs: cannot write '{target}': {parent} takes no new files "
+                                f"({exc.strerror or exc})") from None
     if plot_path and Path(plot_path).suffix.lower() not in PLOT_SUFFIXES:
-        raise ArgumentError(f"vphs: --plot '{plot_path}': give a file ending in {', '.join(PLOT_SUFFIXES)}")
+        raise ArgumentError(f"vphs: {plot_option} '{plot_path}': give a file ending in {', '.join(PLOT_SUFFIXES)}")
 
 
 def _is_number(text: str) -> bool:
@@ -191,13 +218,16 @@ def _is_number(text: str) -> bool:
         return False
 
 
+RUN_SETTING_OPTIONS = {"t_end": "--t-end", "solver": "--solver"}  # the simulation settings vphs run overrides
+
+
 def cmd_run(args) -> int:
     from blocks.circuit import Circuit
     from blocks.units import UnitError, quantity
 
     check_output_paths(args.output, args.plot)
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
-    overrides = parse_overrides(args.set, circuit)  # checked before the (possibly slow) compilation
+    overrides = parse_overrides(args.set, circuit, RUN_SETTING_OPTIONS)  # before the (possibly slow) compilation
     circuit.vectors(overrides)
     settings = circuit.settings
     if args.solver:
@@ -275,7 +305,7 @@ def cmd_graph(args) -> int:
     from blocks.netlist.flatten import flatten
 
     output = args.output or str(Path(args.netlist).with_suffix(".png"))
-    check_output_paths(None, output)
+    check_output_paths(None, output, plot_option="-o")
     flat = flatten(args.netlist)
     draw_circuit(flat, output)
     print(f"vphs: wrote {output}", file=sys.stderr)
@@ -286,9 +316,7 @@ def cmd_diff(args) -> int:
     from blocks.compare import check_reference_columns, compare, is_netlist, planned_table, resolve, table_from_result
     from blocks.datafile import read_table
 
-    for target in (args.output, args.plot):
-        if target and Path(target).is_dir():
-            raise ArgumentError(f"vphs: output '{target}' is a folder; give a file name")
+    check_output_paths(args.output, args.plot)
     netlist = is_netlist(args.simulated)
     if args.set and not netlist:
         raise ArgumentError("vphs: --set applies only when SIMULATED is a netlist")
@@ -339,6 +367,12 @@ def cmd_optimise(args, sweep: bool = False) -> int:
 
     if args.workers is not None and args.workers < 1:
         raise ArgumentError("vphs: --workers must be at least 1")
+    if args.scheduler:
+        from blocks.optimise.executors import scheduler_problem
+
+        problem = scheduler_problem(args.scheduler)
+        if problem:
+            raise ArgumentError(f"vphs: --scheduler '{args.scheduler}': {problem}")
     job = load_job(args.job)
     try:
         summary = (run_sweep if sweep else run_optimise)(job, resume=args.resume, workers=args.workers,

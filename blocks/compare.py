@@ -10,8 +10,10 @@ k = 1..n, all in the REFERENCE's units (converted through SI, never by guessing)
     mean      = (1/n) * sum e_k                      (the bias; positive: simulation above the reference)
     max |e|   = max_k |e_k|, reported with the x_k where it occurs (the first such point)
 
-Reference points whose y cell is empty are left out of that curve (n counts the points used). With a
-grouping column in the reference, each group gets a row of its own after the row over all points.
+Reference points whose y cell is empty (a missing value, as the data-file reader reads it) are left out
+of that curve: n counts the points used and the table says how many rows were left out. An empty x cell
+is an error (the point has no place). With a grouping column in the reference, each group gets a row of
+its own after the row over all points.
 
 x at the ends of the simulated range: a reference x within 1e-9 of the span (relative) outside the range
 is taken as the end point, so that "3" and a simulated end written as 2.9999999999 meet; anything further
@@ -27,7 +29,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
@@ -84,6 +86,7 @@ class Comparison:
     curves: list[CurveData]
     stats: list[CurveStats]
     skipped: list[str]  # reference columns with a unit that the simulation does not have (default matching)
+    left_out: dict[str, int] = field(default_factory=dict)  # compared reference column -> rows with it empty
 
     def format(self) -> str:
         """The statistics as an aligned text table (the reference's units)."""
@@ -97,6 +100,8 @@ class Comparison:
         lines = ["  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))).rstrip()
                  for r in [head] + rows]
         note = f"{self.simulated} vs {self.reference} (error = simulated - reference, in the reference's units)"
+        lines += [f"{n} {'row' if n == 1 else 'rows'} with an empty cell in {ref} left out"
+                  for ref, n in self.left_out.items()]
         return "\n".join([note] + lines) + "\n"
 
     def to_csv_text(self) -> str:
@@ -253,7 +258,7 @@ def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
                                   f"{xs[0] / f:g} .. {xs[-1] / f:g} {x_unit}{where} ({simulated.file}); "
                                   f"no extrapolation", x_ref, k)
 
-    curves, stats = [], []
+    curves, stats, left_out = [], [], {}
     fx = parse_unit(x_unit).factor
     for sim, ref in pairs:
         ys_si = simulated.columns[sim]
@@ -265,6 +270,8 @@ def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
         used = np.flatnonzero(~np.isnan(reference.columns[ref]))
         if used.size == 0:
             raise reference.error("no values to compare (every cell is empty)", ref)
+        if used.size < len(xr):
+            left_out[ref] = len(xr) - used.size
         at_ref = np.empty(used.size)
         for j, k in enumerate(used):
             rows = segments[ref_groups[k]]
@@ -280,7 +287,7 @@ def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
             for label, idx in _point_groups(labels, used.size):
                 stats.append(_stats(curve, idx, label))
     return Comparison(simulated=simulated.file, reference=reference.file, x_sim=x_sim, x_ref=x_ref, x_unit=x_unit,
-                      curves=curves, stats=stats, skipped=skipped)
+                      curves=curves, stats=stats, skipped=skipped, left_out=left_out)
 
 
 def _grouped(simulated: Table, reference: Table) -> bool:

@@ -20,7 +20,8 @@ from blocks.block import ACROSS, Block, Param, PortKind
 from blocks.errors import NetlistError
 from blocks.netlist import spec
 from blocks.netlist.parameters import Entry, ParameterTable, make_array_entry, make_entry
-from blocks.netlist.yaml_source import Located, document_path, read_bounded, read_yaml, shown_key
+from blocks.netlist.yaml_source import (Located, document_path, read_bounded, read_yaml, shown_key, unknown_key,
+                                        wrong_kind)
 from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity
 
 MAX_SUBSYSTEM_DEPTH = 8
@@ -101,16 +102,16 @@ def _load_spec(located: Located) -> spec.Netlist:
     try:
         return spec.Netlist.model_validate(located.data)
     except ValidationError as exc:
+        if (other := wrong_kind(located, "a netlist")) is not None:
+            raise other from None
         first = exc.errors()[0]
         path = document_path(located.data, first["loc"])
         where = ".".join(shown_key(p) for p in path) or "netlist"
         message = first["msg"]
         if first["type"] == "extra_forbidden":
-            message = f"unknown key '{shown_key(path[-1])}'" if path else "unknown key"
             parent = _parent_model(path)
-            if parent is not None:
-                near = nearest(str(path[-1]), parent.model_fields)
-                message += f" (allowed: {', '.join(near or sorted(parent.model_fields))})"
+            message = (unknown_key(path[-1], parent.model_fields) if parent is not None
+                       else f"unknown key '{shown_key(path[-1])}'" if path else "unknown key")
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
         elif path[:1] == ("nets",) and len(path) <= 3:

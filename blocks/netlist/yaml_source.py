@@ -184,3 +184,38 @@ def shown_key(key) -> str:
     """A document key as an error message shows it: characters that do not print (a no-break space, a tab)
     escaped, so that a key '\\xa0description' is not read as ' description'."""
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(key))
+
+
+def unknown_key(key, allowed) -> str:
+    """'unknown key' with the nearest allowed keys as a question, or, when none is near, all of them."""
+    from blocks.units import nearest
+
+    near = nearest(str(key), allowed)
+    return f"unknown key '{shown_key(key)}'" + (f" (did you mean {', '.join(near)}?)" if near
+                                                else f" (allowed: {', '.join(sorted(allowed))})")
+
+
+def wrong_kind(located: Located, expected: str) -> NetlistError | None:
+    """When the top-level keys clearly mark the file as another kind than ``expected`` (a job given to
+    ``vphs run``, a netlist to ``vphs optimise``): an error saying what it is and which command takes it.
+    Called once the file has failed to validate, so a file of the right kind is never refused for it."""
+    found = _kind_of([str(k) for k in located.data]) if isinstance(located.data, dict) else None
+    if found is None or found[0] == expected:
+        return None
+    kind, keys, command = found
+    return NetlistError(located.file, f"this is {kind} (it has {', '.join(k + ':' for k in keys)}), not {expected}; "
+                                      f"run it with {command}")
+
+
+def _kind_of(keys: list[str]) -> tuple[str, list[str], str] | None:
+    """(kind, the keys that show it, the command that takes it) from a file's top-level keys, or None."""
+    if "netlist" in keys:  # a job or an experiment names the netlist it works on
+        for kind, marks, command in (("an optimisation job", ("cost", "algorithm", "sweep"),
+                                      "vphs optimise or vphs sweep"),
+                                     ("a calibration experiment", ("data",), "vphs calibrate")):
+            found = [k for k in keys if k in marks]
+            if found:
+                return kind, ["netlist", *found], command
+        return None
+    found = [k for k in keys if k in ("components", "subsystems", "nets")]
+    return ("a netlist", found, "vphs run") if found else None

@@ -340,6 +340,24 @@ class DaskExecutor:
             self.client.close()
 
 
+def scheduler_problem(address: str) -> str | None:
+    """What is wrong with the form of a Dask scheduler address, or None: found before connecting, where
+    distributed would fail with a bare ValueError ("missing port number")."""
+    try:
+        from distributed.comm import parse_address
+        from distributed.comm.registry import get_backend
+    except ImportError:
+        return "the Dask distributed package is not installed"
+    try:
+        scheme, location = parse_address(address)
+        get_backend(scheme)
+    except ValueError as exc:  # an unknown scheme: distributed lists the known ones
+        return str(exc)
+    if scheme in ("tcp", "tls", "ws", "wss") and not location.rpartition(":")[2].isdigit():
+        return "the port is missing or not a number; expected tcp://HOST:PORT, e.g. tcp://10.0.0.5:8786"
+    return None
+
+
 def make_executor(spec: EvalSpec, workers: int | None = None, scheduler: str | None = None, client=None):
     """Dask if a scheduler (or client) is given, else serial for one worker, else a local pool."""
     if client is not None or scheduler:

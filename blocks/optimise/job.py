@@ -55,7 +55,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
-from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key
+from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
@@ -246,7 +246,13 @@ def _validate(located: Located) -> JobFile:
     try:
         model = JobFile.model_validate(located.data)
     except ValidationError as exc:
-        raise _located(located, exc, ()) from None
+        raise (wrong_kind(located, "an optimisation job") or _located(located, exc, ())) from None
+    if model.scheduler:
+        from blocks.optimise.executors import scheduler_problem
+
+        problem = scheduler_problem(model.scheduler)
+        if problem:
+            raise located.error(("scheduler",), f"scheduler: '{model.scheduler}': {problem}")
     if model.algorithm is not None:
         method = model.algorithm.get("method")
         if method not in METHODS:
@@ -271,10 +277,8 @@ def _located(located: Located, exc: ValidationError, prefix: tuple, model=None) 
         message = "expected a list of values, or {min:, max:, points:, log:}"
     elif first["type"] == "extra_forbidden":
         parent = model if model is not None and len(path) == len(prefix) + 1 else _parent_model(path)
-        message = f"unknown key '{shown_key(path[-1])}'"
-        if parent is not None:
-            near = nearest(str(path[-1]), parent.model_fields)
-            message += f" (allowed: {', '.join(near or sorted(parent.model_fields))})"
+        message = unknown_key(path[-1], parent.model_fields) if parent is not None else \
+            f"unknown key '{shown_key(path[-1])}'"
     elif first["type"] == "missing":
         message = f"missing '{first['loc'][-1]}'"
     return located.error(path, f"{where}: {message}")

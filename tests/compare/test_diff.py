@@ -89,8 +89,11 @@ def test_empty_reference_cells_are_left_out(tmp_path, capsys):
     sim = write(tmp_path / "sim.csv", "t [s],a [bar],b [bar]\n0,0,0\n2,2,20\n")
     ref = write(tmp_path / "ref.csv", "t [s],a [bar],b [bar]\n0.5,1.5,\n1,,13\n1.5,1.0,14\n")
     out = tmp_path / "t.csv"
-    code, _, stderr = run(capsys, "diff", sim, ref, "-o", out)
+    code, stdout, stderr = run(capsys, "diff", sim, ref, "-o", out)
     assert code == 0, stderr
+    # the table says how many rows each curve left out (review: "n = 1" and no word of the dropped row)
+    assert stdout.splitlines()[-2:] == ["1 row with an empty cell in a left out",
+                                        "1 row with an empty cell in b left out"], stdout
     rows = {r["curve"]: r for r in read_rows(out)}
     # a: t = 0.5, 1.5 -> sim 0.5, 1.5; errors -1, +0.5
     assert rows["a"]["n"] == "2" and float(rows["a"]["rmse"]) == pytest.approx(math.sqrt((1 + 0.25) / 2))
@@ -295,6 +298,34 @@ def test_bad_arguments(tmp_path, capsys):
     assert code == 2 and "is a folder" in stderr
     code, _, stderr = run(capsys, "diff", sim, ref, "--y", "=y")
     assert code == 2 and "'=y'" in stderr
+
+
+@pytest.mark.parametrize("option, target, words", [
+    ("-o", "afile/t.csv", ["cannot write", "afile", "not a writable folder"]),
+    ("--plot", "afile/d.png", ["cannot write", "afile", "not a writable folder"]),
+    ("--plot", "d.txt", ["--plot '{target}': give a file ending in .png, .pdf, .svg"]),
+    ("--plot", "d.jpg", ["--plot '{target}': give a file ending in .png, .pdf, .svg"]),
+])
+def test_output_paths_checked_before_the_comparison(tmp_path, capsys, monkeypatch, option, target, words):
+    """The same check as vphs run, before any file is read. Review: a path under a file failed after the
+    comparison ("internal error: FileExistsError", exit 1), .txt with "internal error: ValueError", and
+    .jpg was written although vphs run refuses it."""
+    import blocks.compare
+
+    def refuse(*args, **kwargs):
+        raise AssertionError("the comparison ran before the output paths were checked")
+
+    monkeypatch.setattr(blocks.compare, "compare", refuse)
+    sim = write(tmp_path / "sim.csv", SIM_SQUARE)
+    ref = write(tmp_path / "ref.csv", REF_SQUARE)
+    write(tmp_path / "afile", "keep\n")
+    target = tmp_path / target
+    code, stdout, stderr = run(capsys, "diff", sim, ref, option, target)
+    assert code == 2 and len(stderr.strip().splitlines()) == 1 and "internal error" not in stderr, stderr
+    for word in words:
+        assert word.format(target=target) in stderr, (word, stderr)
+    assert stdout == "" and sorted(p.name for p in tmp_path.iterdir()) == ["afile", "ref.csv", "sim.csv"]
+    assert (tmp_path / "afile").read_text() == "keep\n"
 
 
 @pytest.mark.parametrize("ref_text, extra, where, words", [

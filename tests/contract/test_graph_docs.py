@@ -71,6 +71,15 @@ def test_graph_bad_input_is_exit_2(tmp_path, capsys):
     assert "vphs:" in capsys.readouterr().err
 
 
+def test_graph_bad_output_names_the_option_given(tmp_path, capsys):
+    """Review: "-o out/g.txt" was refused as "--plot 'out/g.txt': ...", an option graph does not have."""
+    out = tmp_path / "g.txt"
+    assert cli.main(["graph", str(EXAMPLES / "drive_line.yaml"), "-o", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err == f"vphs: -o '{out}': give a file ending in .png, .pdf, .svg\n", err
+    assert not out.exists()
+
+
 def test_circuit_graph_is_the_netlist():
     flat = flatten(EXAMPLES / "drive_line.yaml")
     graph = circuit_graph(flat)
@@ -112,6 +121,16 @@ def test_vphs_docs_writes_the_reference(tmp_path):
     out = tmp_path / "ref.md"
     assert cli.main(["docs", "-o", str(out)]) == 0
     assert out.read_text(encoding="utf-8") == docs.reference_text()
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs /proc, a folder that takes no new files")
+def test_docs_into_a_folder_that_takes_no_files_is_exit_2(capsys):
+    """/proc passes a permission check (as root) but refuses new files. Review: "internal error:
+    FileNotFoundError", exit 1, after the reference was generated."""
+    assert cli.main(["docs", "-o", "/proc/x.md"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("vphs: cannot write '/proc/x.md': /proc ") and len(err.splitlines()) == 1, err
+    assert "internal error" not in err
 
 
 def test_reference_covers_every_block_and_key():

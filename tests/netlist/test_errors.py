@@ -243,6 +243,33 @@ def test_not_a_netlist(tmp_path, content, words):
     _check_words(what, words)
 
 
+@pytest.mark.parametrize("text, message", [
+    ("netlist: x.yaml\nparameters:\n  Kp: {min: 1, max: 40}\ncost:\n  terms: {}\n",
+     "this is an optimisation job (it has netlist:, cost:), not a netlist; run it with vphs optimise or vphs sweep"),
+    ("netlist: x.yaml\ndata: d.csv\noutputs: {}\nfree: {}\n",
+     "this is a calibration experiment (it has netlist:, data:), not a netlist; run it with vphs calibrate"),
+])
+def test_a_job_or_experiment_given_as_a_netlist_says_so(tmp_path, capsys, text, message):
+    """Review: `vphs run jobs/small.yaml` said "parameters.Kp: Input should be a valid number"."""
+    path = tmp_path / "other.yaml"
+    path.write_text(text)
+    assert str(load_error(path)) == f"{path}: {message}"
+    assert cli.main(["run", str(path), "-q"]) == 2
+    assert capsys.readouterr().err == f"vphs: {path}: {message}\n"
+
+
+@pytest.mark.parametrize("key, message", [
+    ("rtoll", "unknown key 'rtoll' (did you mean rtol, atol?)"),
+    ("tolerance", "unknown key 'tolerance' (allowed: atol, dt_out, fixed_step, max_step, max_steps, rtol, solver, "
+                  "t_end, t_start)"),
+])
+def test_unknown_key_offers_near_keys_as_a_question_and_lists_all_otherwise(tmp_path, key, message):
+    """Review: the near keys were shown as "(allowed: rtol, atol)", as if they were the only ones."""
+    path = tmp_path / "net.yaml"
+    path.write_text((CASES / "base.yaml").read_text().replace("\nsimulation:\n", f"\nsimulation:\n  {key}: 1e-6\n"))
+    assert str(load_error(path)).endswith(f"simulation.{key}: {message}"), str(load_error(path))
+
+
 def test_missing_file(tmp_path):
     path = tmp_path / "absent.yaml"
     file, _, _, what = split_message(str(load_error(path)))

@@ -223,6 +223,30 @@ def test_set_array_parameter_exit_2_one_line(capsys, cold_cache):
     assert "v_ref.times" in lines[0] and "internal error" not in lines[0], lines
 
 
+def test_set_twice_exit_2(capsys, cold_cache, tmp_path):
+    """Old: --set Kp=4 --set Kp=8 ran with Kp = 8, the first silently dropped."""
+    out = tmp_path / "out.csv"
+    code, lines = run_vphs(["run", str(EXAMPLES / "drive_line.yaml"), "-q", "-o", str(out), "--set", "Kp=4",
+                            "--set", "Kp=8"], capsys)
+    assert (code, lines) == (2, ["vphs: --set: 'Kp' is set twice (4, then 8)"])
+    assert not out.exists() and cache_files(cold_cache) == []
+
+
+@pytest.mark.parametrize("command, name, hint", [
+    ("run", "t_end", "(the simulation's t_end is set with --t-end)"),
+    ("run", "simulation.solver", "(the simulation's solver is set with --solver)"),
+    ("run", "rtol", "(rtol is a simulation setting: change it in the netlist's simulation: section)"),
+    ("diff", "t_end", "(t_end is a simulation setting: change it in the netlist's simulation: section)"),
+])
+def test_set_of_a_simulation_setting_says_where_it_is_set(capsys, cold_cache, tmp_path, command, name, hint):
+    """Old: "unknown parameter 't_end'" and nothing more. vphs diff has no --t-end: the netlist it is."""
+    ref = tmp_path / "ref.csv"
+    ref.write_text("t [s],x [mm]\n0.5,1\n")
+    args = [command, str(EXAMPLES / "drive_line.yaml")] + ([str(ref)] if command == "diff" else [])
+    code, lines = run_vphs(args + ["-q", "--set", f"{name}=5"], capsys)
+    assert (code, lines) == (2, [f"vphs: --set '{name}=5': unknown parameter '{name}' {hint}"])
+
+
 # ---- 7. unit names shadowing parameter names --------------------------------------------------------------------
 def test_parameter_after_a_quantity_inside_an_expression():
     """"1 * 1000 kg * g" with a parameter g = 9.81. Old: the unit was read as "kg * g" (kg times gram): 1."""

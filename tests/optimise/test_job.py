@@ -55,7 +55,9 @@ def test_values_in_units_are_converted_to_si(tmp_path):
 
 
 @pytest.mark.parametrize("change,line,message", [
-    (("seed: 3", "sed: 3"), 2, "unknown key 'sed' (allowed: seed"),
+    (("seed: 3", "sed: 3"), 2, "unknown key 'sed' (did you mean seed, set?)"),
+    (("seed: 3", "xyzzy: 3"), 2, "unknown key 'xyzzy' (allowed: algorithm, cost, description, load_cases, name"),
+    (("seed: 3", "scheduler: notanaddress"), 2, "scheduler: 'notanaddress': the port is missing or not a number"),
     (("  Kp: {min: 1", "  Kpp: {min: 1"), 4, "'Kpp' is not a parameter of"),
     (("max: 40, log", "max: 0.5, log"), 4, "max (0.5) must be above min (1)"),
     (("{min: 1, max: 40, log: true}", "{min: 0, max: 40, log: true}"), 4, "log scaling needs min > 0"),
@@ -69,7 +71,7 @@ def test_values_in_units_are_converted_to_si(tmp_path):
     (("m_load: \"15 t\"", "Kp: 3"), 12, "Kp is varied by the job"),
     (("method: complex", "method: simplex"), 13, "unknown method 'simplex' (methods: complex, nelder_mead"),
     (("max_evaluations: 50", "max_evaluations: 3"), 13, "fewer than the 4 points"),
-    (("max_evaluations: 50}", "max_evaluations: 50, alpah: 1.3}"), 13, "unknown key 'alpah' (allowed: alpha)"),
+    (("max_evaluations: 50}", "max_evaluations: 50, alpah: 1.3}"), 13, "unknown key 'alpah' (did you mean alpha?)"),
     (("m_load: \"0 kg\"", "m_load: \"-1e6 kg\""), 11, "bridge: J = -3.61322 kg*m^2 is below its lower bound"),
 ])
 def test_mistakes_are_located(tmp_path, change, line, message):
@@ -82,6 +84,15 @@ def test_mistakes_are_located(tmp_path, change, line, message):
     assert message in str(error), str(error)
     assert error.file == str(path) and error.line == line, str(error)
     assert "\n" not in str(error)
+
+
+def test_a_netlist_given_as_a_job_says_so(tmp_path):
+    """Review: `vphs optimise <netlist>` said "parameters...: Input should be a valid dictionary or instance
+    of FreeParameter"."""
+    with pytest.raises(NetlistError) as info:
+        load_job(NETLIST)
+    assert str(info.value) == (f"{NETLIST}: this is a netlist (it has components:, nets:), not an optimisation job; "
+                               f"run it with vphs run")
 
 
 def test_out_of_netlist_bounds_and_missing_sections(tmp_path):

@@ -267,5 +267,9 @@ def test_cli_bad_job_is_one_line_exit_2(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"vphs: {path}:2:") and "'nope' is not a logged signal" in err and "\n" not in err
     assert cli.main(["optimise", str(path), "--workers", "0"]) == 2
+    capsys.readouterr()
+    # review: "internal error: ValueError: missing port number in address 'notanaddress'", exit 1
+    assert cli.main(["optimise", str(small_job(tmp_path)), "--scheduler", "notanaddress"]) == 2
+    assert capsys.readouterr().err.startswith("vphs: --scheduler 'notanaddress': the port is missing")
     assert cli.main(["sweep", str(small_job(tmp_path))]) == 2  # no sweep: section
     assert "no sweep: section" in capsys.readouterr().err
