@@ -29,6 +29,8 @@ from blocks.solve.run import nominal_vector
 from blocks.solve.settings import SolverSettings, read_settings
 from blocks.units import UnitError, parse_unit
 
+P_BEYOND = 1e9  # Pa (10000 bar): a pressure no hydraulic circuit reaches (Circuit._beyond_hydraulics)
+
 
 def cache_dir() -> Path:
     """Where generated modules and numba's compiled code are kept (``VPHS_CACHE_DIR`` overrides)."""
@@ -160,6 +162,13 @@ class Circuit:
         )
         if outcome.status != 0:
             raise SimulationError(self._failure_message(outcome), ) from None
+        beyond = self._beyond_hydraulics(outcome)
+        if beyond and settings.solver == "fixed":
+            raise SimulationError(f"{self.flat.file}: {beyond}: the fixed step of {settings.fixed_step:g} s, without "
+                                  f"error control, is too long for this circuit; shorten simulation.fixed_step or "
+                                  f"use solver rodas")
+        if beyond:
+            result.warnings.append(f"{beyond}: check the circuit (a closed volume driven with no relief valve?)")
         return result
 
     def equilibrium(self, overrides: dict[str, float] | None = None, guess: np.ndarray | None = None,
@@ -181,20 +190,40 @@ class Circuit:
                      float(growth_sinks)) if status == 0 else float("nan")
         return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations), sinks)
 
+    def _pressures(self) -> list[tuple[str, object]]:
+        """Every pressure state: the hydraulic nets' and the blocks' internal pressure nodes."""
+        return list(self.structure.net_state.items()) + [
+            (slot.name, slot) for slots in self.structure.block_states.values() for slot in slots.values()
+            if slot.unit == "Pa" and slot.size == 1]
+
+    def _pressure_name(self, net: str) -> str:
+        return f"net '{net}'" if net in self.structure.net_state else f"the pressure {net}"
+
+    def _beyond_hydraulics(self, outcome) -> str:
+        """'' or what says the run left hydraulics: a pressure over P_BEYOND in magnitude at an output sample.
+        No hydraulic machine comes near it (components are rated to some hundreds of bar, the oil's bulk modulus
+        is some 15000 bar); such a value is an integration that went wrong (a fixed step too long) or a circuit
+        that cannot hold (a closed volume driven with no relief)."""
+        if not outcome.X.size:
+            return ""
+        peaks = [(float(np.max(np.abs(outcome.X[:, slot.index]))), net, slot) for net, slot in self._pressures()]
+        peak, net, slot = max(peaks, key=lambda item: item[0], default=(0.0, None, None))
+        if not peak > P_BEYOND:
+            return ""
+        k = int(np.argmax(np.abs(outcome.X[:, slot.index])))
+        return (f"{self._pressure_name(net)} reached {outcome.X[k, slot.index] / 1e5:.3g} bar at t = "
+                f"{outcome.t[k]:.4g} s, beyond any hydraulic pressure (over {P_BEYOND / 1e5:g} bar)")
+
     def _cavitation(self, outcome, vec: Vectors) -> list[str]:
         p_vap = vec.values["fluid.vapour_pressure"]
         found = []
-        pressures = list(self.structure.net_state.items()) + [  # and blocks' internal pressure nodes
-            (slot.name, slot) for slots in self.structure.block_states.values() for slot in slots.values()
-            if slot.unit == "Pa" and slot.size == 1]
-        for net, slot in pressures:
+        for net, slot in self._pressures():
             low = outcome.x_min[slot.index]
             if low < p_vap:
                 column = outcome.X[:, slot.index]
                 below = np.nonzero(column < p_vap)[0]
                 when = f" first seen at t = {outcome.t[below[0]]:.4g} s" if below.size else " between output samples"
-                what = f"net '{net}'" if net in self.structure.net_state else f"the pressure {net}"
-                found.append(f"cavitation: {what} fell to {low / 1e5:.3g} bar, below the vapour pressure "
+                found.append(f"cavitation: {self._pressure_name(net)} fell to {low / 1e5:.3g} bar, below the vapour pressure "
                              f"{p_vap / 1e5:.3g} bar,{when}")
         return found
 
