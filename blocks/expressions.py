@@ -66,7 +66,10 @@ def parse_expression(text: str) -> Expression:
         raise ExpressionError(f"expression longer than {_MAX_LENGTH} characters")
     try:
         tree = ast.parse(text.strip(), mode="eval").body
-    except (SyntaxError, ValueError, RecursionError, MemoryError):
+    except SyntaxError as exc:  # Python's own reason ("'(' was never closed") says what to mend
+        why = f" ({exc.msg})" if exc.msg and exc.msg != "invalid syntax" else ""
+        raise ExpressionError(f"'{text}' is neither a '<number> <unit>' value nor a valid expression{why}") from None
+    except (ValueError, RecursionError, MemoryError):
         raise ExpressionError(f"'{text}' is neither a '<number> <unit>' value nor a valid expression") from None
     names: set[str] = set()
     _check(tree, text, names)

@@ -356,7 +356,8 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
         text, literals = substitute_quantities(raw)
         expression = parse_expression(text)
     except (ExpressionError, UnitError) as exc:
-        raise source.error(path, f"{name}: {unit_problem or exc}") from None
+        meant_an_expression = unit_problem is not None and not re.match(r"[A-Za-z%]", split_quantity(raw)[1])
+        raise source.error(path, f"{name}: {exc if meant_an_expression else unit_problem or exc}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
         raise source.error(path, f"{name}: {unit_problem}")
     return Entry(name, unit, None, expression, scope, source, path, bounds, literals=literals,

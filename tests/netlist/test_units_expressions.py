@@ -356,3 +356,19 @@ def test_any_text_parses_or_is_refused(text):
         expr.evaluate({name: 1.0 for name in expr.names})
     except ExpressionError:
         pass
+
+
+def test_an_unclosed_parenthesis_is_said_not_read_as_a_unit():
+    """'0.085 + (m*r**2' used to be reported as "cannot read '+ (m*r**2' in unit '+ (m*r**2'" (a usability
+    review): a value whose text after the number cannot start a unit is an expression, and Python's reason
+    says what to mend. A misspelt unit is still a unit error."""
+    from blocks.netlist.parameters import make_entry
+    from blocks.netlist.yaml_source import Located
+    from blocks.errors import NetlistError
+
+    source = Located("net.yaml", {}, {})
+    with pytest.raises(NetlistError, match=r"J: '0\.085 \+ \(m\*r\*\*2' is neither a '<number> <unit>' value nor "
+                                           r"a valid expression \('\(' was never closed\)"):
+        make_entry("J", "0.085 + (m*r**2", "kg*m^2", {"m": "m", "r": "r"}, source, ("J",))
+    with pytest.raises(NetlistError, match=r"J: unknown unit 'kgg' \(did you mean kg\?\)"):
+        make_entry("J", "0.085 kgg", "kg", {}, source, ("J",))
