@@ -104,7 +104,11 @@ def _load_spec(located: Located) -> spec.Netlist:
     except ValidationError as exc:
         if (other := wrong_kind(located, "a netlist")) is not None:
             raise other from None
-        first = exc.errors()[0]
+        errors = exc.errors()
+        first = errors[0]
+        if first["type"] == "missing":  # a misspelt key ('netlst:') is missing and unknown at once: say the latter
+            first = next((e for e in errors if e["type"] == "extra_forbidden" and e["loc"][:-1] == first["loc"][:-1]),
+                         first)
         path = document_path(located.data, first["loc"])
         where = ".".join(shown_key(p) for p in path) or "netlist"
         message = first["msg"]

@@ -405,3 +405,16 @@ def test_endless_file_is_refused_by_size(tmp_path, cli_cache, replace, needle):
     assert len(lines) == 1, proc.stderr
     line, col = position(text, needle)
     assert lines[0].startswith(f"vphs: {path}:{line}:"), (lines[0], line, col)
+
+
+def test_a_misspelt_required_key_is_named_as_the_unknown_key(tmp_path):
+    """'tpye:' for 'type:' is a missing key and an unknown one at once; the message used to say only
+    "missing 'type'", leaving the reader to find the misspelling (a usability review, on a subsystem's
+    'netlst:')."""
+    from blocks.errors import NetlistError
+    from blocks.netlist.flatten import load_netlist
+
+    (tmp_path / "net.yaml").write_text("components:\n  pump: {tpye: flow_source}\n")
+    with pytest.raises(NetlistError, match=r"net\.yaml:2:10: components\.pump\.tpye: unknown key 'tpye' "
+                                           r"\(did you mean type\?\)"):
+        load_netlist(tmp_path / "net.yaml")
