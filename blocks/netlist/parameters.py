@@ -124,7 +124,8 @@ class ParameterTable:
                     declared = parse_unit(entry.unit)
                     if not dims.same_dimension(declared):
                         raise entry.error(f"{entry.name}: wrong unit: '{entry.written}' is in "
-                                          f"{dims.describe_dims()}, expected {entry.unit}")
+                                          f"{dims.describe_dims()}, expected {entry.unit}"
+                                          + self._written_elsewhere(entry))
                     dims = declared
             generic = entry.unit is None or entry.unit == GENERIC
             inferred[name] = dims if generic else (parse_unit(entry.unit) if dims is not FREE else FREE)
@@ -148,6 +149,18 @@ class ParameterTable:
         self.order()
         dims = self._dims.get(name, FREE)
         return dims if dims is not FREE else self._dimension_from_places(name)
+
+    def _written_elsewhere(self, entry: Entry) -> str:
+        """The values with a unit that ``entry`` reads and that were written in another file (a subsystem's
+        parameter set by the file that uses it), with where: the place to mend is often there."""
+        found = []
+        for local in sorted(entry.dependencies()):
+            read = self.entries.get(entry.scope.get(local, ""))
+            if read is None or read.dims is FREE or read.source.file == entry.source.file:
+                continue
+            where = read.source.error(read.path, "")
+            found.append(f"{read.name} = '{read.written}' at {where.file}:{where.line}")
+        return f" (it reads {', '.join(found)})" if found else ""
 
     def value_si(self, name: str, raw) -> float:
         """A value given for ``name`` from outside the netlist (``--set``, a job, an experiment file) in SI: a

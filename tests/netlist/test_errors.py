@@ -418,3 +418,19 @@ def test_a_misspelt_required_key_is_named_as_the_unknown_key(tmp_path):
     with pytest.raises(NetlistError, match=r"net\.yaml:2:10: components\.pump\.tpye: unknown key 'tpye' "
                                            r"\(did you mean type\?\)"):
         load_netlist(tmp_path / "net.yaml")
+
+
+def test_a_wrong_unit_set_from_the_file_that_uses_a_subsystem_says_where_it_was_written(tmp_path):
+    """'m_load: 2000 bar' given to a subsystem by the file that uses it is found where the subsystem's own
+    expression reads it; the message used to name only that expression, in the other file."""
+    from blocks.circuit import Circuit
+    from blocks.errors import NetlistError
+
+    examples = Path(__file__).resolve().parents[2] / "netlists" / "examples"
+    text = (examples / "three_axes.yaml").read_text().replace("parts/axis.yaml", str(examples / "parts" / "axis.yaml"))
+    text = text.replace('m_load: "2000 kg"', 'm_load: "2000 bar"')
+    (tmp_path / "uses.yaml").write_text(text)
+    line = next(k for k, row in enumerate(text.splitlines(), 1) if "2000 bar" in row)
+    with pytest.raises(NetlistError, match=rf"axis\.yaml:\d+:\d+: slew\.load\.J: wrong unit: .* expected kg\*m\^2 "
+                                           rf"\(it reads slew\.m_load = '2000 bar' at .*uses\.yaml:{line}\)"):
+        Circuit.from_file(tmp_path / "uses.yaml", compile=False)
