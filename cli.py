@@ -390,8 +390,10 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         return EXIT_FAILED
     if not args.quiet:
         best = ", ".join(f"{k} = {v:.6g}" for k, v in summary.best["parameters"].items())
-        print(f"vphs: {summary.reason}: {summary.total} evaluations ({summary.failed} failed) in {summary.seconds:.1f} s; "
-              f"best cost {summary.best['cost']:.6g} at {best}; report {summary.report}", file=sys.stderr)
+        ahead = f", {len(summary.discarded)} more evaluated ahead and discarded" if summary.discarded else ""
+        print(f"vphs: {summary.reason}: {len(summary.records)} evaluations ({summary.failed} failed{ahead}) in "
+              f"{summary.seconds:.1f} s; best cost {summary.best['cost']:.6g} at {best}; report {summary.report}",
+              file=sys.stderr)
     return 0
 
 

@@ -359,7 +359,7 @@ def cmd_seeds(jobs: list[str], seeds: int, out: Path) -> int:
             design = ", ".join(f"{k} {v / BAR:.4g} bar" if k == "Ks" else f"{k} {v:.4g}"
                                for k, v in s.best["parameters"].items())
             print(f"| {job.name} | {seed} | {s.best['cost']:.1f} | {c_pos(case['terms']):.0f} | "
-                  f"{case['terms']['max_pos']:.2f} | {design} | {s.reason} | {s.total} |", flush=True)
+                  f"{case['terms']['max_pos']:.2f} | {design} | {s.reason} | {len(s.records)} |", flush=True)
     return 0
 
 

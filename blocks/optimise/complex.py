@@ -40,13 +40,18 @@ as long as each one stays the worst. With ``candidates = c`` the first c of that
 at once (the batch goes to the workers); the first that is not the worst is accepted, exactly where the
 one-at-a-time method would accept it, and the later ones are discarded. The random numbers of an
 iteration come from one stream consumed in sequence order, so the accepted designs -- the whole path of
-the complex -- are the same for every c, given the seed; c only changes how many evaluations are spent
-(the discarded ones count against the budget) and how long a wall-clock iteration takes. The initial
-population is evaluated as one batch.
+the complex -- are the same for every c, given the seed. The path's evaluations are the ones the
+one-at-a-time method (c = 1) makes; only they count against ``max_evaluations``, so that the budget stops
+every c at the same point of the path (a batch never asks for more than the budget has left, and the
+discarded ones, at most c - 1 a batch, come on top). c thus changes only how many simulations run and
+how long a wall-clock iteration takes, never the result. The initial population is evaluated as one batch.
 
 ``evaluate(points, info)`` gets a list of points (1-d arrays) and a list of dicts describing them
 ({"step": "initial" | "reflection" | "retraction", "iteration", "n_rep"}) and returns their costs;
 it may evaluate them in parallel. Costs must be finite (a failed simulation is given a penalty cost).
+``on_path(used)``, if given, is called after every batch with the number of its first points that are on
+the path; the rest were evaluated ahead and are not needed (the caller leaves them out of its result: a
+discarded point may cost less than any on the path, and reporting it would make the result depend on c).
 """
 
 from __future__ import annotations
@@ -79,7 +84,7 @@ class OptimiseResult:
 
     x: np.ndarray
     f: float
-    evaluations: int
+    evaluations: int  # on the method's path (for the Complex method: without the discarded candidates)
     iterations: int
     reason: str
     extra: dict = field(default_factory=dict)
@@ -138,9 +143,11 @@ def check_settings(s: ComplexSettings, n: int) -> int:
 
 
 def complex_minimise(evaluate: Callable, lower, upper, settings: ComplexSettings | None = None, seed: int = 0,
-                     initial: np.ndarray | None = None) -> OptimiseResult:
+                     initial: np.ndarray | None = None, on_path: Callable[[int], None] | None = None) -> OptimiseResult:
     """Minimise with the Complex(-RF) method; see the module docstring. ``initial`` (k x n) replaces the
-    random population (for tests and restarts)."""
+    random population (for tests and restarts); ``on_path(used)`` hears after each batch how many of its
+    points are on the path."""
+    on_path = on_path or (lambda used: None)
     s = settings or ComplexSettings()
     lower, upper = np.asarray(lower, float), np.asarray(upper, float)
     if np.any(~(upper > lower)):
@@ -154,7 +161,8 @@ def complex_minimise(evaluate: Callable, lower, upper, settings: ComplexSettings
         R = np.random.default_rng([seed, 0]).random((k, n))
         Y = lower + R * (upper - lower)
     f_true = np.asarray(evaluate(list(Y), [{"step": "initial", "iteration": 0, "n_rep": 0}] * k), float)
-    evaluations = k
+    on_path(k)
+    evaluations = k  # on the path
     f_aged = f_true.copy()
     kf = forgetting_factor(s.alpha, s.gamma, k)
     iteration, reason = 0, "budget"
@@ -184,14 +192,17 @@ def complex_minimise(evaluate: Callable, lower, upper, settings: ComplexSettings
             costs = evaluate([y for y, _ in batch],
                              [{"step": "reflection" if rep == 0 else "retraction", "iteration": iteration, "n_rep": rep}
                               for _, rep in batch])
-            evaluations += size
-            for pos, ((y, _), cost) in enumerate(zip(batch, costs)):
-                tried += 1
+            used = 0
+            for (y, _), cost in zip(batch, costs):
+                used += 1
                 Y[j], f_true[j], f_aged[j] = y, cost, cost
                 if cost < others_worst:
                     accepted = True
-                    discarded += size - pos - 1  # evaluated ahead, not needed
                     break
+            tried += used
+            evaluations += used
+            discarded += size - used  # evaluated ahead, not needed
+            on_path(used)
     best = int(np.argmin(f_true))
     return OptimiseResult(Y[best].copy(), float(f_true[best]), evaluations, iteration, reason,
                           {"points": k, "complex": Y.copy(), "costs": f_true.copy(), "discarded": discarded})

@@ -27,7 +27,9 @@
 
 Methods and their settings (defaults):
     complex: max_evaluations 500, points max(2n, 3), alpha 1.3, n0 4, rfak 0, gamma 0, tol_x 1e-4,
-             tol_f 1e-5, max_retractions 30, candidates auto (= the workers; see blocks.optimise.complex)
+             tol_f 1e-5, max_retractions 30, candidates auto (= the workers; see blocks.optimise.complex:
+             max_evaluations counts the evaluations on the method's path, not the candidates evaluated
+             ahead and discarded, so that the result does not depend on the workers)
     nelder_mead: max_evaluations 500, xatol 1e-4, fatol 1e-6, start random | netlist, adaptive false
     differential_evolution: max_evaluations 1000, popsize 15, tol 0.01, atol 0, mutation [0.5, 1.0],
              recombination 0.7, strategy best1bin, polish false
@@ -368,8 +370,7 @@ class _Resolver:
                                  f"{where}: with these values {exc.message}{origin}") from None
         start = self.circuit.vectors(fixed).values
         job = Job(
-            file=self.located.file, name=name, netlist=str(netlist),
-            output=Path(m.output) if m.output else Path("out") / name,
+            file=self.located.file, name=name, netlist=str(netlist), output=self.output(name),
             seed=m.seed, workers=m.workers, scheduler=m.scheduler, fixed=fixed, free=free, terms=terms,
             cases=cases, combine=m.cost.combine, penalty=m.cost.penalty, method=method, settings=settings,
             sweep_names=sweep_names, sweep_points=sweep_points,
@@ -379,6 +380,20 @@ class _Resolver:
         )
         job.fingerprint = self.fingerprint(netlist)
         return job
+
+    def output(self, name: str) -> Path:
+        """The output folder (relative to the working directory, not to the job file); a file in its place
+        is said now, located at output:, not when the log is first written."""
+        from blocks.optimise.log import file_in_the_way
+
+        given = self.model.output
+        output = Path(given) if given else Path("out") / name
+        blocker = file_in_the_way(output)
+        if blocker is not None:
+            what = f"output '{given}'" if given else f"the default output folder '{output}' (set output:)"
+            raise self.error(("output",) if given else (), f"{what} is a file, not a folder" if blocker == output
+                             else f"{what}: '{blocker}' is a file, not a folder")
+        return output
 
     # ---- values ---------------------------------------------------------------------------------------
     def entry(self, name: str, path: tuple):

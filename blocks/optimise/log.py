@@ -20,6 +20,14 @@ finished -- and the file is truncated back to its last whole line before anythin
 re-run from its seed and each point it asks for is answered from the log when the entry with that index
 holds exactly that x, and evaluated otherwise -- so finished evaluations are never repeated and the log
 ends up with every evaluation once.
+
+    {"type": "discarded", "indices": [18, 19]}
+
+says that those evaluations were made ahead of need in parallel (the Complex method's later retractions,
+:mod:`blocks.optimise.complex`) and were not on the method's path: they are kept, but not part of the
+result. It is written once the method has seen the batch's costs (after their evaluation lines); on
+``--resume`` an index marked already is not marked again. :func:`read_log` gives such a record
+``"discarded": true``.
 """
 
 from __future__ import annotations
@@ -39,6 +47,15 @@ class LogError(VphsError):
     pass
 
 
+def file_in_the_way(folder: Path) -> Path | None:
+    """The first of ``folder`` and its parents that exists, if it is not a folder (a file there makes the
+    log unwritable, which the operating system would only call 'File exists' or 'Not a directory')."""
+    for path in (Path(folder), *Path(folder).parents):
+        if path.exists():
+            return None if path.is_dir() else path
+    return None
+
+
 def point_id(index: int, x) -> str:
     digest = hashlib.sha1(json.dumps([float(v) for v in x]).encode()).hexdigest()[:8]
     return f"{index:06d}-{digest}"
@@ -54,8 +71,12 @@ class EvaluationLog:
     def __init__(self, folder: Path, header: dict):
         self.path = Path(folder) / LOG_NAME
         self.records: dict[int, dict] = {}
+        self.discarded: set[int] = set()
         self._dirty, self._closing = threading.Event(), False
         self._syncer = threading.Thread(target=self._sync_loop, name="vphs-log-fsync", daemon=True)
+        blocker = file_in_the_way(self.path.parent)
+        if blocker is not None:
+            raise LogError(f"{self.path}: cannot write the evaluation log: '{blocker}' is a file, not a folder")
         try:
             self.path.parent.mkdir(parents=True, exist_ok=True)
             if self.path.exists() and self.path.stat().st_size > 0:
@@ -77,7 +98,7 @@ class EvaluationLog:
         if path.is_dir():
             raise LogError(f"{path}: a folder, not a log")
         log = cls.__new__(cls)
-        log.path, log.records = path, {}
+        log.path, log.records, log.discarded = path, {}, set()
         if not resume:
             raise LogError(f"{path}: this job's output folder holds a log already ({log._count_lines()} lines); "
                            f"continue it with --resume, or give another output folder (or delete this one)")
@@ -112,6 +133,8 @@ class EvaluationLog:
                 header = record
             elif record.get("type") == "evaluation":
                 self.records.setdefault(int(record["index"]), record)
+            elif record.get("type") == "discarded":
+                self.discarded.update(int(i) for i in record["indices"])
         if header is None:
             raise LogError(f"{self.path}: no job header line; not an evaluation log of vphs")
         return header
@@ -146,6 +169,13 @@ class EvaluationLog:
         self._write(record)
         self.records[int(record["index"])] = record
 
+    def discard(self, indices: list[int]) -> None:
+        """Mark evaluations as made ahead of need and not on the method's path (once each)."""
+        new = [int(i) for i in indices if int(i) not in self.discarded]
+        if new:
+            self._write({"type": "discarded", "indices": new})
+            self.discarded.update(new)
+
     def close(self) -> None:
         self._closing = True
         self._dirty.set()
@@ -157,9 +187,10 @@ class EvaluationLog:
 
 
 def read_log(folder: Path) -> tuple[dict, list[dict]]:
-    """The header and the evaluation records (by index) of a finished or interrupted job's log."""
+    """The header and the evaluation records (by index) of a finished or interrupted job's log; a record
+    evaluated ahead and not on the method's path has ``"discarded": True``."""
     path = Path(folder) / LOG_NAME
-    header, records = {}, {}
+    header, records, discarded = {}, {}, set()
     for line in path.read_text(encoding="utf-8").splitlines():
         try:
             record = json.loads(line)
@@ -169,4 +200,6 @@ def read_log(folder: Path) -> tuple[dict, list[dict]]:
             header = record
         elif record.get("type") == "evaluation":
             records.setdefault(int(record["index"]), record)
-    return header, [records[i] for i in sorted(records)]
+        elif record.get("type") == "discarded":
+            discarded.update(int(i) for i in record["indices"])
+    return header, [{**records[i], "discarded": True} if i in discarded else records[i] for i in sorted(records)]

@@ -3,7 +3,12 @@
 Optimisation (``<output>/``): ``report.md``; ``convergence.png`` (every evaluation's cost and the best so
 far against the evaluation index); ``best_signals.png`` (the best design re-simulated: each cost term's
 signal against its reference, or the high-passed signal, per load case); ``best.json`` (the best
-parameters in SI and the cost terms); ``best_<case>.csv`` (the best run's logged signals).
+parameters in SI and the cost terms, the job's fixed ``set:`` values and each load case's overrides, and
+per load case the ``vphs run`` command line that simulates the best design again); ``best_<case>.csv``
+(the best run's logged signals). The free parameters alone do not reproduce a cost: the simulation also
+had the fixed values and the load case's, so the report gives the whole command line.
+The report covers the method's path only (:mod:`blocks.optimise.runner`): candidates evaluated ahead and
+discarded are counted, not shown.
 Sweep (``<output>/sweep/``): ``report.md`` with the table of every point, ``sweep.csv`` and ``sweep.png``
 (the cost and each term against the parameter; a map of the cost over a two-parameter grid).
 
@@ -17,6 +22,8 @@ import csv
 import io
 import json
 import math
+import os
+import shlex
 from pathlib import Path
 
 import numpy as np
@@ -64,11 +71,32 @@ def write_optimise_report(summary) -> Path:
                 result.write_csv(folder / f"best_{case}.csv")
         atomic_write_text(folder / "best.json", json.dumps(
             {"job": job.file, "evaluation": best["index"], "cost": best["cost"], "parameters": best["parameters"],
-             "units": {k: job.units.get(k, "") for k in best["parameters"]}, "cases": best["cases"]}, indent=2) + "\n")
+             "units": {k: job.units.get(k, "") for k in best["parameters"]}, "cases": best["cases"],
+             "set": job.fixed, "load_cases": dict(job.cases),
+             "commands": run_commands(job, best["parameters"])}, indent=2) + "\n")
     text = _optimise_markdown(summary, records, signals_png is not None)
     path = folder / "report.md"
     atomic_write_text(path, text)
     return path
+
+
+def run_commands(job, parameters: dict) -> dict[str, str]:
+    """Per load case, the ``vphs run`` command line that simulates the design ``parameters`` as the job
+    did: every override of that case (the free parameters, the job's ``set:``, the case's values; SI, full
+    precision), the netlist relative to the working directory if it lies under it."""
+    from blocks.optimise.evaluate import case_overrides
+
+    spec = job.spec()
+    netlist = os.path.relpath(job.netlist)
+    if netlist.startswith(os.pardir):
+        netlist = job.netlist
+    commands = {}
+    for case in spec.cases:
+        overrides = case_overrides(spec, parameters, case)
+        ordered = {**{k: overrides[k] for k in parameters}, **overrides}  # the free parameters first
+        commands[case[0]] = " ".join(["vphs run", shlex.quote(netlist)]
+                                     + [f"--set {shlex.quote(f'{k}={v!r}')}" for k, v in ordered.items()])
+    return commands
 
 
 def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
@@ -81,9 +109,12 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     lines = [f"# Optimisation: {job.name}", "",
              f"- job: `{job.file}`; netlist: `{job.netlist}`",
              f"- method: {job.method} ({', '.join(f'{k}={_fmt(v)}' for k, v in settings.items())}); seed {job.seed}",
-             f"- evaluations: {len(records)} ({summary.evaluated} in this run, {summary.replayed} from the log), "
-             f"{len(records) - len(ok)} failed; iterations: {summary.iterations}; stopped: {summary.reason}",
-             f"- run: {summary.executor} executor, {summary.workers} worker(s); {summary.seconds:.2f} s, "
+             f"- evaluations: {len(records)} on the method's path, {len(records) - len(ok)} failed; "
+             f"iterations: {summary.iterations}; stopped: {summary.reason}"
+             + (f"; {len(summary.discarded)} more were evaluated ahead in parallel and discarded (not on the path, "
+                f"not in this report; marked discarded in the log)" if summary.discarded else ""),
+             f"- run: {summary.executor} executor, {summary.workers} worker(s); {summary.evaluated} evaluations in "
+             f"this run, {summary.replayed} from the log; {summary.seconds:.2f} s, "
              f"{summary.rate:.1f} evaluations/s in this run",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
@@ -109,6 +140,11 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     lines += ["", "Weights: " + ", ".join(f"{t.name} {_fmt(t.weight)}" for t in job.terms), ""]
     if best.get("warnings"):
         lines += ["Warnings of the best run: " + "; ".join(best["warnings"]), ""]
+    lines += ["To simulate the best design again, per load case (from the folder the job ran in; values in SI: "
+              "the free parameters, the job's `set:` and the load case's values):", "", "```"]
+    for case, command in run_commands(job, best["parameters"]).items():
+        lines += [f"# {case}", command]
+    lines += ["```", ""]
     lines += ["## Cost history", "", "![convergence](convergence.png)", "",
               "Each improvement of the best cost:", "",
               "| evaluation | step | cost | " + " | ".join(p.name for p in job.free) + " |",

@@ -10,6 +10,11 @@ given the seed, the batching and the costs, the resumed run retraces the interru
 on from where it stopped; the batching (``candidates`` of the Complex method) is taken from the log's
 header, not from the number of workers of the resumed run.
 
+The result (the best design, the evaluations counted, the failures) is taken over the method's path only:
+the Complex method evaluates retractions ahead in parallel and discards those it turns out not to need
+(:mod:`blocks.optimise.complex`); they stay in the log, marked discarded, but are left out of the summary,
+so that the result is that of a one-worker run whatever the number of workers or ``candidates``.
+
 Outputs: ``<output>/`` for ``optimise`` and ``<output>/sweep/`` for ``sweep``: the evaluation log
 (:mod:`blocks.optimise.log`) and the report (:mod:`blocks.optimise.report`).
 """
@@ -48,19 +53,21 @@ class Summary:
     workers: int
     executor: str
     candidates: int | None = None
-    evaluated: int = 0  # in this run
-    replayed: int = 0  # answered from the log
-    failed: int = 0
-    best: dict | None = None
+    evaluated: int = 0  # in this run (on the path or not)
+    replayed: int = 0  # answered from the log (on the path or not)
+    failed: int = 0  # on the path
+    best: dict | None = None  # on the path
     reason: str = ""
     seconds: float = 0.0
     iterations: int = 0
-    above_penalty: int = 0  # working designs that cost more than a failed one (a penalty set too low)
-    records: list = field(default_factory=list)
+    above_penalty: int = 0  # working designs on the path that cost more than a failed one (a penalty set too low)
+    records: list = field(default_factory=list)  # the method's path, in the order it asked for them
+    discarded: list = field(default_factory=list)  # evaluated ahead and not needed (only in the log)
     report: Path | None = None
 
     @property
     def total(self) -> int:
+        """Every evaluation, on the path or discarded."""
         return self.evaluated + self.replayed
 
     @property
@@ -85,9 +92,11 @@ class Progress:
         self.last = now
         elapsed = now - self.started
         rate = s.evaluated / elapsed if elapsed > 0 else 0.0
-        done = f"{s.total}/{self.total}" if self.total else f"{s.total}"
+        kept = s.total - len(s.discarded)  # on the path, or in a batch not yet decided
+        done = f"{kept}/{self.total}" if self.total else f"{kept}"
         best = f"{s.best['cost']:.6g}" if s.best else "-"
-        extra = f" ({s.replayed} from the log)" if s.replayed else ""
+        notes = [f"{n} {what}" for n, what in ((len(s.discarded), "more discarded"), (s.replayed, "from the log")) if n]
+        extra = f" ({', '.join(notes)})" if notes else ""
         line = (f"vphs: {done} evaluations{extra}, {s.failed} failed, best cost {best}, {rate:.1f}/s, "
                 f"{elapsed:.1f} s")
         print(f"\r{line}" if self.tty else line, end="" if self.tty else "\n", file=self.stream, flush=True)
@@ -100,23 +109,25 @@ class Progress:
 
 
 class Runner:
-    """The ``evaluate(points, info)`` the methods call: log lookup, parallel evaluation, logging, progress."""
+    """The ``evaluate(points, info)`` the methods call: log lookup, parallel evaluation, logging, progress;
+    and ``on_path(used)``, by which a method says how many points of its last batch are on its path."""
 
     def __init__(self, job: Job, log: EvaluationLog, executor, summary: Summary, progress: Progress, to_design):
         self.job, self.log, self.executor, self.summary, self.progress = job, log, executor, summary, progress
         self.to_design = to_design
         self.next_index = 0
+        self.batch: list[dict] = []  # the last batch's records, until the method says which are on its path
 
     def __call__(self, points: list, info: list[dict]) -> list[float]:
+        self.on_path()  # a method that said nothing about its last batch used all of it
         first, self.next_index = self.next_index, self.next_index + len(points)
-        costs: list[float | None] = [None] * len(points)
+        batch: list[dict | None] = [None] * len(points)
         todo = []
         for pos, z in enumerate(points):
             record = self.log.finished(first + pos, z)
             if record is not None:
-                costs[pos] = record["cost"]
+                batch[pos] = record
                 self.summary.replayed += 1
-                self._seen(record)
             else:
                 todo.append(pos)
         if todo:
@@ -127,22 +138,34 @@ class Runner:
                 record = {"type": "evaluation", "id": point_id(first + pos, x), "index": first + pos, "x": x,
                           "parameters": designs[k], **info[pos], **outcome}
                 self.log.append(record)
-                costs[pos] = record["cost"]
+                batch[pos] = record
                 self.summary.evaluated += 1
-                self._seen(record)
-        return costs
+                self.progress.show(self.summary)
+        self.batch = batch
+        return [record["cost"] for record in batch]
+
+    def on_path(self, used: int | None = None) -> None:
+        """The first ``used`` points of the last batch (all if None) are on the method's path: they make the
+        result; the others were evaluated ahead and are not needed: marked discarded in the log."""
+        batch, self.batch = self.batch, []
+        used = len(batch) if used is None else used
+        for record in batch[:used]:
+            self._seen(record)
+        if batch[used:]:
+            self.log.discard([record["index"] for record in batch[used:]])
+            self.summary.discarded += batch[used:]
+        self.progress.show(self.summary)
 
     def _seen(self, record: dict) -> None:
         s = self.summary
         s.records.append(record)
         if record["status"] != "ok":
             s.failed += 1
-            return self.progress.show(s)
+            return
         if record["cost"] >= self.job.penalty:
             s.above_penalty += 1
         if s.best is None or record["cost"] < s.best["cost"]:
             s.best = record
-        self.progress.show(s)
 
 
 def _open(job: Job, command: str, folder: Path, resume: bool, workers, scheduler, client, header_extra):
@@ -188,13 +211,14 @@ def run_optimise(job: Job, resume: bool = False, workers: int | None = None, sch
     runner = Runner(job, log, executor, summary, progress, job.values)
     with _running(executor, log, progress, summary):
         if job.method == "complex":
-            result = complex_minimise(runner, job.lower, job.upper, settings, job.seed)
+            result = complex_minimise(runner, job.lower, job.upper, settings, job.seed, on_path=runner.on_path)
         elif job.method == "nelder_mead":
             if job.start == "netlist":
                 settings = dataclasses.replace(settings, x0=list(job.coordinates(job.start_values)))
             result = nelder_mead(runner, job.lower, job.upper, settings, job.seed)
         else:
             result = differential_evolution(runner, job.lower, job.upper, settings, job.seed)
+        runner.on_path()
         summary.reason, summary.iterations = result.reason, result.iterations
     if report:
         from blocks.optimise.report import write_optimise_report
@@ -220,6 +244,7 @@ def run_sweep(job: Job, resume: bool = False, workers: int | None = None, schedu
     points = [np.array([p[n] for n in names]) for p in job.sweep_points]
     with _running(executor, log, progress, summary):
         runner(points, [{"step": "sweep", "iteration": 0, "n_rep": 0}] * len(points))
+        runner.on_path()
         summary.reason = "done"
     if report:
         from blocks.optimise.report import write_sweep_report

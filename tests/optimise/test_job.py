@@ -122,3 +122,31 @@ def test_sweep_grid_and_list(tmp_path):
         load_job(write(tmp_path, GOOD + "sweep:\n  parameters: {Kp: 5}\n"))
     with pytest.raises(NetlistError, match="sweep.parameters.Kp.points: missing 'points'"):
         load_job(write(tmp_path, GOOD + "sweep:\n  parameters: {Kp: {min: 1, max: 3}}\n"))
+
+
+def test_an_output_that_is_a_file_is_said_at_output(tmp_path, monkeypatch, capsys):
+    """output: is relative to the working directory; a file there (or on its way) is one located line,
+    exit 2, before any worker starts -- not the operating system's 'File exists' from the log."""
+    import cli
+
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "out").mkdir()
+    (tmp_path / "out" / "dl.csv").write_text("t,x\n")
+    for output, message in (("out/dl.csv", "output 'out/dl.csv' is a file, not a folder"),
+                            ("out/dl.csv/sub", "output 'out/dl.csv/sub': 'out/dl.csv' is a file, not a folder")):
+        path = write(tmp_path, GOOD.replace("seed: 3", f"seed: 3\noutput: {output}"))
+        for command in ("optimise", "sweep"):
+            assert cli.main([command, str(path), "--workers", "1"]) == 2
+            err = capsys.readouterr().err
+            assert err == f"vphs: {path}:3:1: {message}\n", err
+    assert (tmp_path / "out" / "dl.csv").read_text() == "t,x\n"
+    # the sweep's own subfolder taken by a file: the log says so when it would be written
+    (tmp_path / "res").mkdir()
+    (tmp_path / "res" / "sweep").write_text("")
+    path = write(tmp_path, GOOD.replace("seed: 3", "seed: 3\noutput: res") + "sweep: {parameters: {Kp: [2]}}\n")
+    assert cli.main(["sweep", str(path), "--workers", "1"]) == 2
+    assert "'res/sweep' is a file, not a folder" in capsys.readouterr().err
+    # the default output folder out/<name>: said too, without a line to point at
+    (tmp_path / "out" / "job").write_text("")
+    with pytest.raises(NetlistError, match="the default output folder 'out/job' \\(set output:\\) is a file"):
+        load_job(write(tmp_path, GOOD))
