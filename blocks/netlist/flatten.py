@@ -101,7 +101,8 @@ def _load_spec(located: Located) -> spec.Netlist:
     try:
         return spec.Netlist.model_validate(located.data)
     except ValidationError as exc:
-        first = exc.errors()[0]
+        errors = exc.errors()  # a boolean read as a value is named as such, whatever else a union tried
+        first = next((e for e in errors if e["type"] == spec.NOT_A_NUMBER), errors[0])
         path = document_path(located.data, first["loc"])
         where = ".".join(shown_key(p) for p in path) or "netlist"
         message = first["msg"]
@@ -113,7 +114,7 @@ def _load_spec(located: Located) -> spec.Netlist:
                 message += f" (allowed: {', '.join(near or sorted(parent.model_fields))})"
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
-        elif path[:1] == ("nets",) and len(path) <= 3:
+        elif path[:1] == ("nets",) and len(path) <= 3 and first["type"] != spec.NOT_A_NUMBER:
             message = ("a net is a list of '<component>.<port>' strings, or {ports: [...], volume:, initial:, "
                        "bulk_modulus:}")
         raise located.error(path, f"{where}: {message}") from None
@@ -143,6 +144,8 @@ def flatten(file: str | Path) -> FlatCircuit:
     fluid = builder.add_fluid(netlist, located)
     builder.add_netlist(netlist, located, prefix="", overrides={}, override_scope={},
                         stack=(str(Path(file).resolve()),), fluid=fluid, default_volume=None)
+    if not builder.components:
+        raise _no_components(located)
     nets = builder.resolve_nets()
     outputs = [
         FlatOutput(name, out if isinstance(out, str) else out.of, None if isinstance(out, str) else out.unit,
@@ -156,6 +159,15 @@ def flatten(file: str | Path) -> FlatCircuit:
     circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs, aliases)
     builder.table.order()  # unknown names and cycles are reported now, not at the first evaluation
     return circuit
+
+
+def _no_components(located: Located) -> NetlistError:
+    """A netlist whose circuit has no block (an empty file, only a description, ``components: {}``): there is
+    nothing to simulate, and running it would write a CSV of time alone as if it were a result. Placed at
+    ``components:`` if written, else at the document's start (line 1 of an empty file)."""
+    line, column = located.where(("components",))
+    return NetlistError(located.file, "the netlist has no components: a circuit needs at least one block "
+                        "(components: {<name>: {type: <block type>, params: {...}}})", line or 1, column or 1)
 
 
 class _Builder:
