@@ -24,10 +24,12 @@ from blocks.compiler.codegen import Generator, OutputExpr
 from blocks.compiler.structure import Structure, analyse, jacobian_pattern
 from blocks.errors import NetlistError, SimulationError
 from blocks.netlist.flatten import FlatCircuit, flatten
-from blocks.result import Result
+from blocks.block import PortKind
+from blocks.netlist.yaml_source import shown_key
+from blocks.result import Result, column_name_problem
 from blocks.solve.run import nominal_vector
 from blocks.solve.settings import SolverSettings, read_settings
-from blocks.units import UnitError, parse_unit
+from blocks.units import GENERIC, UnitError, parse_unit
 
 P_BEYOND = 1e9  # Pa (10000 bar): a pressure no hydraulic circuit reaches (Circuit._beyond_hydraulics)
 
@@ -253,31 +255,73 @@ class Circuit:
 
     # ---- logged signals -------------------------------------------------------------------------------
     def _resolve_outputs(self) -> list["ResolvedOutput"]:
+        """The logged signals: each output's expression, SI unit and display unit, checked.
+
+        An output's name heads a CSV column (:func:`~blocks.result.column_name_problem`). A display unit
+        must have the dimension of what is logged where that is known: a net's across variable, a port or
+        state declared in a unit, or a generic signal ("SI") on a net where a port declares one (a spool
+        command read by a valve's ``x`` [1] is a plain number, not mm). A generic signal that no port
+        declares has no known dimension: its display unit is taken as written (the netlist reference says
+        so)."""
         resolved = []
-        names = set()
         for out in self.flat.outputs:
+            problem = column_name_problem(out.name)
+            if problem:
+                raise out.source.error(out.path, f"output '{shown_key(out.name)}': {problem}")
             try:
                 expr, unit = self.generator.resolve_output(out.of)
             except KeyError as exc:
                 raise out.source.error(out.path, f"output '{out.name}': {exc.args[0]}") from None
-            display = out.unit or unit
-            try:
-                generic = unit in ("", "SI")  # generic signal blocks carry SI values of any unit
-                if not generic and not parse_unit(display).same_dimension(parse_unit(unit)):
-                    raise out.source.error(out.path, f"output '{out.name}': unit '{display}' does not fit "
-                                           f"{out.of}, which is in {unit}")
-            except UnitError as exc:
-                raise out.source.error(out.path, f"output '{out.name}': {exc}") from None
-            names.add(out.name)
-            resolved.append(ResolvedOutput(out.name, expr, unit, display))
+            declared = self._declared_units(out.of) if unit in ("", GENERIC) else []
+            if out.unit is not None:
+                self._check_display_unit(out, unit, declared)
+            resolved.append(ResolvedOutput(out.name, expr, unit, out.unit or unit, declared[0][1] if declared else None))
         if not resolved:
             resolved = self._default_outputs()
         return resolved
 
+    def _check_display_unit(self, out, unit: str, declared: list[tuple[str, str]]) -> None:
+        """Refuse a display unit that cannot be read, or that does not fit the logged signal's dimension
+        (its SI ``unit``, or for a generic signal the units ``declared`` by the ports on its net)."""
+        where = out.path + ("unit",)
+        try:
+            display = parse_unit(out.unit)
+            known = [(out.of, unit)] if unit not in ("", GENERIC) else declared
+            if known and not any(display.same_dimension(parse_unit(u)) for _, u in known):
+                port, declared = known[0]
+                declared = "1 (a plain number)" if declared == "1" else declared
+                which = f"which is in {declared}" if port == out.of else f"which {port} reads in {declared}"
+                raise out.source.error(where, f"output '{out.name}': unit '{out.unit}' does not fit {out.of}, {which}")
+        except UnitError as exc:
+            raise out.source.error(where, f"output '{out.name}': {exc}") from None
+
+    def _declared_units(self, ref: str) -> list[tuple[str, str]]:
+        """For a generic signal: (port, unit) of each port on its signal net that declares a unit.
+
+        ``ref`` names a signal net or a signal port on one (a state has no net); a generic output ("SI")
+        carries whatever its readers take, so a reader declared in a unit fixes the signal's dimension."""
+        ref = self.flat.resolve_alias(ref)
+        comp, _, name = ref.rpartition(".")
+        if ref in self.flat.nets:
+            net = ref
+        elif name in self.structure.block_states.get(comp, {}):
+            return []
+        else:
+            net = self.structure.port_net.get((comp, name))
+        if net is None or self.flat.nets[net].kind is not PortKind.SIGNAL:
+            return []
+        ports = [(f"{c}.{p}", self.flat.components[c].cls.port(p).unit) for c, p in self.flat.nets[net].ports]
+        return [(port, unit) for port, unit in ports if unit not in ("", GENERIC)]
+
     def _default_outputs(self) -> list["ResolvedOutput"]:
-        """With no outputs: section, log every net's across variable (pressures in bar)."""
+        """With no outputs: section, log every net's across variable (pressures in bar), named by the net."""
         out = []
         for net in self.flat.nets.values():
+            problem = column_name_problem(net.name)
+            if problem:
+                raise net.source.error(net.path, f"net '{shown_key(net.name)}' would be logged as a column of its "
+                                       f"own name (there is no outputs: section): {problem}; rename it or "
+                                       f"list the outputs")
             expr, unit = self.generator.resolve_output(net.name)
             display = "bar" if unit == "Pa" else unit
             out.append(ResolvedOutput(net.name, expr, unit, display))
@@ -310,6 +354,8 @@ class ResolvedOutput:
     expr: str
     unit: str
     display_unit: str
+    declared: str | None = None
+    """For a generic signal ("SI"): the unit a port on its net declares (its dimension), if one does."""
 
 
 def _colour_columns(pattern: np.ndarray) -> tuple[np.ndarray, int]:

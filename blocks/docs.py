@@ -73,7 +73,14 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
                       "`<component>.<port>`, `<component>.<state>` (scalar states), or "
                       "`<component>.<port>.flow` / `.torque` / `.force`: what the block delivers to the net at "
                       "that port (positive into the net, the engine's sign convention).",
-    ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit).",
+    ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit). It must have the "
+                        "dimension of what is logged where that is known: a net's pressure or speed, a port, "
+                        "state or flow declared in a unit, or a generic signal on a net where a port declares "
+                        "one (a command read by a valve's `x` [1] is a plain number). A generic signal (declared "
+                        "`SI`: a gain's or a sum's output) that no port on its net declares has no known "
+                        "dimension: its unit is taken as written (the values are divided by the unit's SI "
+                        "factor and the header shows it) and not checked, and a job's cost terms on it take "
+                        "that unit's dimension.",
     ("Simulation", "t_start"): "Start time [s].",
     ("Simulation", "t_end"): "End time [s] (`--t-end` overrides it).",
     ("Simulation", "dt_out"): "Interval of the logged samples [s] (not the solver's step).",
@@ -360,8 +367,10 @@ def file_format() -> str:
         "### Outputs",
         "",
         schema_table(spec.Output),
-        "With no `outputs:` section nothing is logged but the time; `vphs run` writes the logged signals to "
-        "CSV (header `name [unit]`) and, with `--plot`, a PNG.",
+        "With no `outputs:` section every net's across variable is logged under the net's name (pressures "
+        "in bar); `vphs run` writes the logged signals to CSV (header `t [s]`, then `name [unit]` for each) "
+        "and, with `--plot`, a PNG. An output's name is its column's name, read back by `vphs diff` and "
+        "`vphs compare`: it may not be `t` (the time column), have spaces around it or contain `[` or `]`.",
         "",
         "### Simulation",
         "",

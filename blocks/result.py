@@ -18,6 +18,29 @@ import numpy as np
 
 from blocks.units import parse_unit
 
+TIME_COLUMN = "t"
+"""The name of the results CSV's first column (``t [s]``)."""
+
+
+def column_name_problem(name: str) -> str | None:
+    """Why ``name`` cannot head a column of the results CSV (``name [unit]``), or None if it can.
+
+    The CSV is read back by :func:`blocks.datafile.read_table` (``vphs diff``, ``vphs compare``), which
+    takes a header cell's name up to its ``[unit]`` and strips the spaces around it: a logged signal named
+    ``t`` would be a second time column, one with brackets would not read as ``name [unit]``, one with
+    spaces around it (or nothing but spaces) would read as another name."""
+    if name == TIME_COLUMN:
+        return f"'{TIME_COLUMN}' is the name of the time column"
+    if not name.strip():
+        return "a column name cannot be empty"
+    if name != name.strip():
+        return "spaces around a column name are dropped when the CSV is read"
+    if "[" in name or "]" in name:
+        return "'[' and ']' enclose a column's unit"
+    if not name.isprintable():
+        return "a column name must be printable characters"
+    return None
+
 
 @dataclass
 class Result:
@@ -52,7 +75,7 @@ class Result:
     def to_csv_text(self) -> str:
         buffer = io.StringIO()
         writer = csv.writer(buffer, lineterminator="\n")
-        writer.writerow(["t [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.display_units)])
+        writer.writerow([f"{TIME_COLUMN} [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.display_units)])
         factors = np.array([parse_unit(u).factor for u in self.display_units])
         table = np.column_stack([self.t, self.values / factors]) if self.names else self.t[:, None]
         for row in table:

@@ -104,8 +104,8 @@ def _load_spec(located: Located) -> spec.Netlist:
     except ValidationError as exc:
         if (other := wrong_kind(located, "a netlist")) is not None:
             raise other from None
-        errors = exc.errors()
-        first = errors[0]
+        errors = exc.errors()  # a boolean read as a value is named as such, whatever else a union tried
+        first = next((e for e in errors if e["type"] == spec.NOT_A_NUMBER), errors[0])
         if first["type"] == "missing":  # a misspelt key ('netlst:') is missing and unknown at once: say the latter
             first = next((e for e in errors if e["type"] == "extra_forbidden" and e["loc"][:-1] == first["loc"][:-1]),
                          first)
@@ -118,7 +118,7 @@ def _load_spec(located: Located) -> spec.Netlist:
                        else f"unknown key '{shown_key(path[-1])}'" if path else "unknown key")
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
-        elif path[:1] == ("nets",) and len(path) <= 3:
+        elif path[:1] == ("nets",) and len(path) <= 3 and first["type"] != spec.NOT_A_NUMBER:
             message = ("a net is a list of '<component>.<port>' strings, or {ports: [...], volume:, initial:, "
                        "bulk_modulus:}")
         raise located.error(path, f"{where}: {message}") from None
@@ -148,6 +148,8 @@ def flatten(file: str | Path) -> FlatCircuit:
     fluid = builder.add_fluid(netlist, located)
     builder.add_netlist(netlist, located, prefix="", overrides={}, override_scope={},
                         stack=(str(Path(file).resolve()),), fluid=fluid, default_volume=None)
+    if not builder.components:
+        raise _no_components(located)
     nets = builder.resolve_nets()
     outputs = [
         FlatOutput(name, out if isinstance(out, str) else out.of, None if isinstance(out, str) else out.unit,
@@ -161,6 +163,15 @@ def flatten(file: str | Path) -> FlatCircuit:
     circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs, aliases)
     builder.table.order()  # unknown names and cycles are reported now, not at the first evaluation
     return circuit
+
+
+def _no_components(located: Located) -> NetlistError:
+    """A netlist whose circuit has no block (an empty file, only a description, ``components: {}``): there is
+    nothing to simulate, and running it would write a CSV of time alone as if it were a result. Placed at
+    ``components:`` if written, else at the document's start (line 1 of an empty file)."""
+    line, column = located.where(("components",))
+    return NetlistError(located.file, "the netlist has no components: a circuit needs at least one block "
+                        "(components: {<name>: {type: <block type>, params: {...}}})", line or 1, column or 1)
 
 
 class _Builder:

@@ -23,12 +23,29 @@ What the names and values mean is checked later (:mod:`blocks.netlist.flatten`);
 
 from __future__ import annotations
 
-from typing import Literal, Union
+from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic_core import PydanticCustomError
 
-Value = Union[float, int, str]
-ArrayValue = Union[list[Union[float, int, str]], "CsvColumn"]
+NOT_A_NUMBER = "not_a_number"
+"""The pydantic error type of a YAML boolean where a number is expected (its message is the one to show)."""
+
+
+def _no_boolean(value):
+    """Refuse a YAML boolean (``true``, ``false``, ``yes``, ``no``, ``on``, ``off``) where a number is expected.
+
+    pydantic would take it as 1.0 or 0.0, so ``Cd: true`` (a slip for a number) would simulate Cd = 1 and
+    ``max_steps: yes`` one step; the error says what was read."""
+    if isinstance(value, bool):
+        raise PydanticCustomError(NOT_A_NUMBER, "{text} is not a number", {"text": str(value).lower()})
+    return value
+
+
+Value = Annotated[Union[float, int, str], BeforeValidator(_no_boolean)]
+"""A number in SI, a '<number> <unit>' string or an expression; never a boolean."""
+Number = Annotated[float, BeforeValidator(_no_boolean)]
+Count = Annotated[int, BeforeValidator(_no_boolean)]
 
 
 class Strict(BaseModel):
@@ -56,8 +73,8 @@ class Defaults(Strict):
 class Component(Strict):
     type: str
     preset: str | None = None
-    params: dict[str, Union[Value, list[Union[float, int, str]], CsvColumn]] = Field(default_factory=dict)
-    initial: dict[str, Union[Value, list[Union[float, int, str]]]] = Field(default_factory=dict)
+    params: dict[str, Union[Value, list[Value], CsvColumn]] = Field(default_factory=dict)
+    initial: dict[str, Union[Value, list[Value]]] = Field(default_factory=dict)
 
 
 class Subsystem(Strict):
@@ -82,11 +99,11 @@ class Simulation(Strict):
     t_end: Value = 1.0
     dt_out: Value = "1 ms"
     solver: Literal["rodas", "fixed", "lsoda", "bdf", "radau"] = "rodas"
-    rtol: float = Field(1e-6, gt=0, lt=1)
-    atol: float = Field(1e-6, gt=0, lt=1, description="absolute tolerance relative to each state's nominal size")
+    rtol: Number = Field(1e-6, gt=0, lt=1)
+    atol: Number = Field(1e-6, gt=0, lt=1, description="absolute tolerance relative to each state's nominal size")
     fixed_step: Value | None = None
     max_step: Value | None = None
-    max_steps: int = Field(2_000_000, gt=0)
+    max_steps: Count = Field(2_000_000, gt=0)
 
 
 class Netlist(Strict):

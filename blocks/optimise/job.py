@@ -57,13 +57,12 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
+from blocks.netlist.spec import Value
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
 from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, si_name, split_quantity
-
-Value = Union[float, int, str]
 
 
 class Strict(BaseModel):
@@ -309,9 +308,10 @@ _ALL_FIELDS = {name for m in (JobFile, CostSpec, SweepSpec, SweepRange, TermSpec
 
 
 def _dimension(output):
-    """The dimension of a logged signal: its SI unit, or for a generic signal block the netlist's display
-    unit (x: {of: travel.y, unit: mm} is a length); None if neither says."""
-    for text in (output.unit, output.display_unit):
+    """The dimension of a logged signal: its SI unit, or for a generic signal block the unit a port on its
+    net declares (:class:`blocks.circuit.ResolvedOutput`), else the netlist's display unit
+    (x: {of: travel.y, unit: mm} is a length); None if none says."""
+    for text in (output.unit, output.declared, output.display_unit):
         if text not in ("1", "", None, GENERIC):
             return parse_unit(text)
     return None
@@ -493,7 +493,40 @@ class _Resolver:
             raise self.error(path + ("wn",), f"{where}.wn must be positive")
         t_from = self.seconds_or(path, "t_from", t.t_from, "s") if t.t_from is not None else None
         t_to = self.seconds_or(path, "t_to", t.t_to, "s") if t.t_to is not None else None
-        return Term(name, t.kind, t.signal, t.weight, reference, offset, scale, unit, wn, t.zeta, t_from, t_to)
+        term = Term(name, t.kind, t.signal, t.weight, reference, offset, scale, unit, wn, t.zeta, t_from, t_to)
+        self.check_window(term, path)
+        return term
+
+    def check_window(self, term: Term, path: tuple) -> None:
+        """Refuse a time window that keeps too few of the run's output samples for the term to mean anything.
+
+        A window with no sample scores 0 (so does an integral over a single sample), whatever the design:
+        t_from after t_to, t_from after the simulation's end, t_to before its start, or a window between two
+        output samples. The samples are the ones every run logs (:func:`blocks.solve.run.output_times` of the
+        netlist's simulation: settings; a load case sets parameters only, never the span), kept as the term
+        keeps them (:func:`blocks.optimise.costs.window`)."""
+        from blocks.optimise.costs import window
+        from blocks.solve.run import output_times
+
+        settings = self.circuit.settings
+        where = f"cost.terms.{term.name}"
+        if term.t_from is not None and term.t_to is not None and term.t_from > term.t_to:
+            raise self.error(path + ("t_from",), f"{where}.t_from: {term.t_from:g} s is after t_to ({term.t_to:g} s)")
+        if term.t_from is not None and term.t_from > settings.t_end:
+            raise self.error(path + ("t_from",), f"{where}.t_from: {term.t_from:g} s is after the simulation's end "
+                             f"({settings.t_end:g} s)")
+        if term.t_to is not None and term.t_to < settings.t_start:
+            raise self.error(path + ("t_to",), f"{where}.t_to: {term.t_to:g} s is before the simulation's start "
+                             f"({settings.t_start:g} s)")
+        needed = 1 if term.kind == "max_abs" else 2  # an integral over one sample is 0
+        kept = int(np.count_nonzero(window(term, output_times(settings))))
+        if kept < needed:
+            key = "t_from" if term.t_from is not None else "t_to"
+            lo = f"{term.t_from:g} s" if term.t_from is not None else "the run's start"
+            hi = f"{term.t_to:g} s" if term.t_to is not None else "the run's end"
+            raise self.error(path + (key,), f"{where}: the window {lo} ... {hi} holds {kept} of the run's output "
+                             f"samples (one every {settings.dt_out:g} s from {settings.t_start:g} s); "
+                             f"{term.kind} needs {needed} at least")
 
     def seconds_or(self, path, key, raw, unit) -> float:
         try:

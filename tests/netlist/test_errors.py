@@ -101,10 +101,17 @@ CASES_TABLE = [
     Case("unknown_component_ref", [at("valve.A")], ["'valve.A'", "unknown component", "'valve'"]),
     Case("bad_output_port", [at("err:   mix.q")], ["output 'err'", "mix.q", "no port or state"]),
     Case("bad_output_name", [at("err:   nothere")], ["output 'err'", "nothere"]),
-    # ENGINE BUG (reported): `vphs validate` does not check an output's unit (run and Circuit do).
-    Case("bad_output_unit", [at("pM:")], ["output 'pM'", "rpm", "Pa"]),
-    # ENGINE BUG (reported): same as above, for an unknown unit.
-    Case("bad_output_unknown_unit", [at("pM:")], ["output 'pM'", "unknown unit", "'barr'"]),
+    # an output's unit is refused at its unit:, where it is written
+    Case("bad_output_unit", [at("unit: rpm}")], ["output 'pM'", "rpm", "Pa"]),
+    Case("bad_output_unknown_unit", [at("unit: barr")], ["output 'pM'", "unknown unit", "'barr'"]),
+    # a generic output (a gain's) whose net a valve reads as a plain number (x [1]) is not in mm
+    Case("output_unit_of_reader", [at("unit: mm")], ["output 'spool'", "'mm'", "amp.y", "valve.x", "plain number"]),
+    # an output's name heads a CSV column that vphs diff and compare read back
+    Case("output_named_t", [at("t:     mix.y")], ["output 't'", "time column"]),
+    Case("output_name_brackets", [at('"err [1]"')], ["output 'err [1]'", "'['"]),
+    Case("net_named_t_no_outputs", [at("t:     [mix.y]")], ["net 't'", "time column", "outputs"]),
+    Case("components_empty", [at("components: {}")], ["no components"]),
+    Case("parameter_boolean", [at("Cd: true")], ["Cd", "true is not a number"]),
     Case("t_end_before_t_start", [at("t_end:")], ["t_end", "t_start", "after"]),
     Case("simulation_bad_solver", [at("solver: rk45")], ["solver", "rodas"]),
     Case("simulation_t_end_unit", [at("t_end:")], ["t_end", "wrong unit", "bar"]),
@@ -268,6 +275,42 @@ def test_unknown_key_offers_near_keys_as_a_question_and_lists_all_otherwise(tmp_
     path = tmp_path / "net.yaml"
     path.write_text((CASES / "base.yaml").read_text().replace("\nsimulation:\n", f"\nsimulation:\n  {key}: 1e-6\n"))
     assert str(load_error(path)).endswith(f"simulation.{key}: {message}"), str(load_error(path))
+
+
+@pytest.mark.parametrize("content", ["", "# only a comment\n", "description: hi\n"])
+def test_netlist_without_components(tmp_path, content):
+    """An empty netlist is refused at its first line (a run would write a CSV of time alone)."""
+    path = tmp_path / "nothing.yaml"
+    path.write_text(content)
+    file, line, col, what = split_message(str(load_error(path)))
+    assert (file, line, col) == (str(path), 1, 1) and "no components" in what
+
+
+@pytest.mark.parametrize("change, needle, words", [
+    (('  p_s: "100 bar"', "  p_s: yes"), "p_s: yes", ["parameters.p_s", "true is not a number"]),
+    (('dt_out: "1 ms"', 'dt_out: "1 ms"\n  max_steps: true'), "max_steps", ["simulation.max_steps", "true is not"]),
+    (('initial: "10 bar"', "initial: false"), "initial: false", ["nets.M.initial", "false is not a number"]),
+])
+def test_boolean_where_a_number_is_expected(tmp_path, change, needle, words):
+    """YAML's booleans are not 1 and 0: refused where written, whatever the key."""
+    text = (CASES / "base.yaml").read_text()
+    assert text.count(change[0]) == 1
+    text = text.replace(*change)
+    path = tmp_path / "boolean.yaml"
+    path.write_text(text)
+    file, line, col, what = split_message(str(load_error(path)))
+    assert file == str(path) and (line, col) == position(text, needle), what
+    _check_words(what, words)
+
+
+def test_display_unit_of_a_signal_of_unknown_dimension_is_taken_as_written(tmp_path):
+    """A generic signal that no port declares (cmd.y: a step read by a gain) has no known dimension: its unit
+    is taken as written (the documented behaviour), while the same signal through the gain into the valve's
+    x [1] is a plain number and may be shown in %."""
+    path = tmp_path / "percent.yaml"
+    path.write_text((CASES / "output_unit_of_reader.yaml").read_text().replace("unit: mm}", 'unit: "%"}'))
+    shown = {o.name: o.display_unit for o in load(path).outputs}
+    assert shown == {"command": "bar", "spool": "%"}
 
 
 def test_missing_file(tmp_path):

@@ -341,11 +341,14 @@ def test_register_rejects_derivatives_reading_own_output():
 
 # ---- 13. display units of dimensionless signals ----------------------------------------------------------------
 def test_dimensionless_state_logged_in_bar_is_refused():
-    """servo_4wrle's state x (unit "1") with unit: bar. Old: "1" counted as generic and bar was accepted."""
-    assert_located("dimensionless_state_in_bar", "xs:", ["'xs'", "bar"])
+    """servo_4wrle's state x (unit "1") with unit: bar. Old: "1" counted as generic and bar was accepted.
+    Refused at the output's unit:."""
+    assert_located("dimensionless_state_in_bar", "unit: bar", ["'xs'", "bar"])
 
 
 def test_dimensionless_without_unit_and_generic_signal_in_bar_are_accepted():
+    """A generic signal that no port on its net declares has no known dimension (its unit is taken as
+    written); the step read by the valve's u [1] is a plain number (cases/output_unit_of_reader.yaml)."""
     circuit = load(case("dimensionless_ok"))
     assert {o.name: o.display_unit for o in circuit.outputs} == {"xs": "1", "c_bar": "bar"}
 
@@ -358,7 +361,7 @@ def test_dimensionless_spool_port_logged_in_bar_is_refused():
     and valve_4_3.x (like servo_4wrle.spool, "spool position x, normalised") declares none, so it is now
     generic and unit: bar is accepted as before. Such ports must declare unit "1".
     """
-    assert_located("spool_port_in_bar", "spool:", ["'spool'", "bar"])
+    assert_located("spool_port_in_bar", "unit: bar", ["'spool'", "bar"])
 
 
 # ---- 14. output paths checked first; a closed pipe --------------------------------------------------------------

@@ -73,6 +73,13 @@ def test_values_in_units_are_converted_to_si(tmp_path):
     (("max_evaluations: 50", "max_evaluations: 3"), 13, "fewer than the 4 points"),
     (("max_evaluations: 50}", "max_evaluations: 50, alpah: 1.3}"), 13, "unknown key 'alpah' (did you mean alpha?)"),
     (("m_load: \"0 kg\"", "m_load: \"-1e6 kg\""), 11, "bridge: J = -3.61322 kg*m^2 is below its lower bound"),
+    # a time window that keeps too few output samples would score 0 for every design (the run is 0 ... 3 s)
+    (("weight: 50}", 'weight: 50, t_from: "5 s", t_to: "1 s"}'), 8, "cost.terms.pos.t_from: 5 s is after t_to (1 s)"),
+    (("weight: 50}", 'weight: 50, t_from: "10 s"}'), 8, "t_from: 10 s is after the simulation's end (3 s)"),
+    (("weight: 3e-8}", 'weight: 3e-8, t_to: "-1 s"}'), 9, "t_to: -1 s is before the simulation's start (0 s)"),
+    (("weight: 50}", 'weight: 50, t_from: "1.0004 s", t_to: "1.0006 s"}'), 8, "holds 0 of the run's output samples"),
+    (("weight: 50}", 'weight: 50, t_from: "3 s"}'), 8, "holds 1 of the run's output samples"),
+    (("{min: 1, max: 40, log: true}", "{min: true, max: 40, log: true}"), 4, "parameters.Kp.min: true is not a number"),
 ])
 def test_mistakes_are_located(tmp_path, change, line, message):
     text = GOOD.replace(*change)
@@ -93,6 +100,41 @@ def test_a_netlist_given_as_a_job_says_so(tmp_path):
         load_job(NETLIST)
     assert str(info.value) == (f"{NETLIST}: this is a netlist (it has components:, nets:), not an optimisation job; "
                                f"run it with vphs run")
+
+
+def test_a_window_on_one_sample_is_enough_for_a_largest_error(tmp_path):
+    """max_abs at one instant (a sample of the run) means something; an integral over it would not."""
+    text = GOOD.replace("    vib:", '    end: {kind: max_abs, signal: x, reference: x_ref, t_from: "3 s"}\n    vib:')
+    end = next(t for t in load_job(write(tmp_path, text)).terms if t.name == "end")
+    assert (end.t_from, end.t_to) == (3.0, None)
+
+
+SPEED_COMMAND = """\
+components:
+  cmd:   {type: step, params: {t_step: "0.1 s", y1: 10}}
+  drive: {type: speed_source}
+  load:  {type: inertia, params: {J: "0.1 kg*m^2"}}
+nets:
+  w:     [cmd.y, drive.w]
+  shaft: [drive.port, load.port]
+outputs:
+  w_cmd: cmd.y
+simulation: {t_end: "0.5 s"}
+"""
+
+
+@pytest.mark.parametrize("unit, refused", [("bar", True), ("rpm", False)])
+def test_term_unit_on_a_generic_signal_read_as_a_speed(tmp_path, unit, refused):
+    """A step's output is generic (SI), but the speed source reads it as w [rad/s]: the netlist knows it is a
+    speed (blocks.circuit.ResolvedOutput.declared), so a cost term may not express it in bar."""
+    (tmp_path / "speed.yaml").write_text(SPEED_COMMAND)
+    text = (f"netlist: speed.yaml\nparameters:\n  load.J: {{min: 0.05, max: 0.2}}\n"
+            f"cost:\n  terms:\n    w: {{kind: max_abs, signal: w_cmd, unit: {unit}}}\n")
+    if refused:
+        with pytest.raises(NetlistError, match=r"job.yaml:6:\d+: cost.terms.w.unit: 'bar' does not fit signal w_cmd"):
+            load_job(write(tmp_path, text))
+    else:
+        assert load_job(write(tmp_path, text)).terms[0].unit == "rpm"
 
 
 def test_out_of_netlist_bounds_and_missing_sections(tmp_path):
