@@ -99,7 +99,9 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
 SOLVER_TEXT = {
     "rodas": "Default. A compiled, L-stable Rosenbrock method (hydraulic circuits are stiff) with variable "
              "step and error control, finite-difference Jacobian grouped by the netlist's sparsity.",
-    "fixed": "The same Rosenbrock method at the constant step `fixed_step`, without error control.",
+    "fixed": "The same Rosenbrock method at the constant step `fixed_step`, without error control; a run "
+             "whose pressure leaves hydraulics (over 10000 bar: a step too long for the circuit) is an error "
+             "(with the other solvers a warning).",
     "lsoda": "scipy's `solve_ivp(method='LSODA')` on the same compiled right-hand side (switches between "
              "stiff and non-stiff methods).",
     "bdf": "scipy's `solve_ivp(method='BDF')`, given the Jacobian's sparsity from the netlist graph.",
