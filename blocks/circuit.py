@@ -20,11 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
+from blocks.block import PortKind
 from blocks.compiler.codegen import Generator, OutputExpr
 from blocks.compiler.structure import Structure, analyse, jacobian_pattern
 from blocks.errors import NetlistError, SimulationError
 from blocks.netlist.flatten import FlatCircuit, flatten
-from blocks.block import PortKind
 from blocks.netlist.yaml_source import shown_key
 from blocks.result import Result, column_name_problem
 from blocks.solve.run import nominal_vector
