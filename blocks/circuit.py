@@ -275,7 +275,11 @@ class Circuit:
             declared = self._declared_units(out.of) if unit in ("", GENERIC) else []
             if out.unit is not None:
                 self._check_display_unit(out, unit, declared)
-            resolved.append(ResolvedOutput(out.name, expr, unit, out.unit or unit, declared[0][1] if declared else None))
+            known = declared[0][1] if declared and all(
+                parse_unit(u).same_dimension(parse_unit(declared[0][1])) for _, u in declared) else None
+            # a generic signal whose readers agree on a (SI-coherent) unit is shown in it, not as "SI"
+            resolved.append(ResolvedOutput(out.name, expr, unit, out.unit or known or unit,
+                                           declared[0][1] if declared else None))
         if not resolved:
             resolved = self._default_outputs()
         return resolved

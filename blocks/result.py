@@ -96,7 +96,8 @@ class Result:
         for k, unit in enumerate(self.display_units):
             groups.setdefault(unit, []).append(k)
         n = max(1, len(groups))
-        fig, axes = plt.subplots(n, 1, sharex=True, figsize=(9, 2.2 + 1.8 * n), squeeze=False)
+        # constrained layout leaves room for the title above the first panel (tight_layout does not)
+        fig, axes = plt.subplots(n, 1, sharex=True, figsize=(9, 2.2 + 1.8 * n), squeeze=False, layout="constrained")
         for ax, (unit, members) in zip(axes[:, 0], groups.items()):
             for k in members:
                 ax.plot(self.t, self.in_unit(self.names[k]), label=self.names[k])
@@ -105,7 +106,6 @@ class Result:
             ax.legend(loc="best", fontsize="small")
         axes[-1, 0].set_xlabel("t [s]")
         fig.suptitle(title or Path(self.file).name)
-        fig.tight_layout()
         try:
             atomic_write_figure(fig, Path(path))
         finally:

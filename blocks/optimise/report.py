@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from blocks.optimise.costs import combine
 from blocks.result import atomic_write_figure, atomic_write_text
 
 
@@ -319,17 +320,17 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
             Z = np.full((len(ys), len(xs)), np.nan)
             for r in ok:
                 i, j = ys.index(r["parameters"][names[1]]), xs.index(r["parameters"][names[0]])
-                Z[i, j] = r["cost"] if term is None else _combined_term(r, term.name, cases)
+                Z[i, j] = r["cost"] if term is None else _combined_term(r, term.name, cases, job.combine)
             finite = Z[np.isfinite(Z)]
             log = finite.size and finite.min() > 0 and finite.max() > 100 * finite.min()
             mesh = ax.imshow(Z, origin="lower", aspect="auto", norm=LogNorm() if log else None)
-            fig.colorbar(mesh, ax=ax)
+            fig.colorbar(mesh, ax=ax, label="cost" if term is None else f"{term.name} [{term.value_unit}]")
             ax.set_xticks(range(len(xs)), [_fmt(v, 3) for v in xs], fontsize="small")
             ax.set_yticks(range(len(ys)), [_fmt(v, 3) for v in ys], fontsize="small")
             ax.set_xlabel(_axis_label(job, names[0]))
             ax.set_ylabel(_axis_label(job, names[1]))
-            ax.set_title(label + (" (mean over the load cases)" if term is not None and len(cases) > 1 else ""),
-                         fontsize="small")
+            ax.set_title(label + (f" ({_COMBINED[job.combine]} over the load cases)" if term is not None
+                                  and len(cases) > 1 else ""), fontsize="small")
     else:
         fig, axes = plt.subplots(len(columns), 1, sharex=True, figsize=(8, 1.8 + 1.9 * len(columns)), squeeze=False)
         x_name = names[0]
@@ -346,7 +347,7 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
                             color=f"C{k % 10}", label=case if len(cases) > 1 else None)
                 if len(cases) > 1:
                     ax.legend(fontsize="x-small")
-            ax.set_ylabel(label)
+            ax.set_ylabel(label if term is None else f"{label} [{term.value_unit}]")
             ax.grid(True, alpha=0.3)
         axes[-1, 0].set_xlabel(_axis_label(job, x_name) if len(names) == 1 else
                                f"point ({', '.join(names)} in the table)")
@@ -361,6 +362,10 @@ def _axis_label(job, name: str) -> str:
     return f"{name} [{unit}]" if unit else name
 
 
-def _combined_term(record: dict, term: str, cases: list[str]) -> float:
+_COMBINED = {"sum": "summed", "mean": "mean", "worst": "worst"}
+
+
+def _combined_term(record: dict, term: str, cases: list[str], how: str) -> float:
+    """A cost term over the load cases, combined as the job combines its cost (sum, mean or worst)."""
     values = [record["cases"][c]["terms"].get(term) for c in cases]
-    return float(np.mean(values)) if None not in values else float("nan")
+    return combine(values, how) if None not in values else float("nan")

@@ -59,3 +59,16 @@ def test_outputs_may_name_subsystem_ports_and_merged_nets():
     assert generator.resolve_output("bridge.P") == generator.resolve_output("P")
     assert generator.resolve_output("slew.T") == generator.resolve_output("T")
     assert generator.resolve_output("bridge.A")[1] == "Pa"
+
+
+def test_a_generic_signal_is_shown_in_the_unit_its_readers_agree_on():
+    """The drive line's spool signal comes from a generic second-order block ("SI") and is read by the valve's
+    x, a plain number [1]: its column is 'spool [1]', not 'spool [SI]' (a usability review: "[SI]" is not a
+    unit). A generic signal no port declares stays "SI"; a written unit wins."""
+    from pathlib import Path
+
+    from blocks.circuit import Circuit
+
+    examples = Path(__file__).resolve().parents[2] / "netlists" / "examples"
+    shown = {o.name: o.display_unit for o in Circuit.from_file(examples / "drive_line.yaml", compile=False).outputs}
+    assert shown["spool"] == "1" and shown["x"] == "mm" and shown["pA"] == "bar"

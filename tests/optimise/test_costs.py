@@ -96,3 +96,13 @@ def test_combine_load_cases():
     assert combine([1.0, 2.0, 6.0], "worst") == 6.0
     with pytest.raises(ValueError):
         combine([1.0], "median")
+
+
+def test_a_sweep_maps_each_term_combined_over_the_load_cases_as_the_job_combines_its_cost():
+    """The sweep plot's term panels showed the mean over the load cases even for a job whose cost takes the
+    worst case (a usability review)."""
+    from blocks.optimise.report import _combined_term
+
+    record = {"cases": {"empty": {"terms": {"pos": 1.0}}, "full": {"terms": {"pos": 3.0}}}}
+    got = {how: _combined_term(record, "pos", ["empty", "full"], how) for how in ("sum", "mean", "worst")}
+    assert got == {"sum": 4.0, "mean": 2.0, "worst": 3.0}
