@@ -73,7 +73,8 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
                       "`<component>.<port>`, `<component>.<state>` (scalar states), or "
                       "`<component>.<port>.flow` / `.torque` / `.force`: what the block delivers to the net at "
                       "that port (positive into the net, the engine's sign convention).",
-    ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit). It must have the "
+    ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit; for a generic signal, "
+                        "the unit the ports reading it agree on, e.g. `1`, else `SI`). It must have the "
                         "dimension of what is logged where that is known: a net's pressure or speed, a port, "
                         "state or flow declared in a unit, or a generic signal on a net where a port declares "
                         "one (a command read by a valve's `x` [1] is a plain number). A generic signal (declared "
