@@ -186,11 +186,18 @@ def _unknown_parameter_hint(name: str, entries, setting_options: dict[str, str])
 PLOT_SUFFIXES = (".png", ".pdf", ".svg")
 
 
-def check_output_paths(csv_path: str | None, plot_path: str | None, plot_option: str = "--plot") -> None:
-    """Before any work: each output names a file in a folder that exists (or can be made), plots a format.
+def check_output_paths(csv_path: str | None, plot_path: str | None, plot_option: str = "--plot",
+                       inputs: tuple = ()) -> None:
+    """Before any work: each output names a file in a folder that exists (or can be made), plots a format;
+    the outputs are two files, and none of them is one of the ``inputs`` (the netlist, the data read).
 
     The folder is tried with a nameless temporary file: a folder that looks writable may still refuse
     new files (/proc, a read-only mount as root). ``plot_option`` is the option the plot was given with."""
+    if csv_path and plot_path and Path(csv_path).resolve() == Path(plot_path).resolve():
+        raise ArgumentError(f"vphs: -o and {plot_option} name one file, '{csv_path}': the plot would replace the CSV")
+    for target in (csv_path, plot_path):
+        if target and any(Path(target).resolve() == Path(source).resolve() for source in inputs if source):
+            raise ArgumentError(f"vphs: output '{target}' is an input of this command; writing it would destroy it")
     for target in (csv_path, plot_path):
         if not target:
             continue
@@ -225,7 +232,7 @@ def cmd_run(args) -> int:
     from blocks.circuit import Circuit
     from blocks.units import UnitError, quantity
 
-    check_output_paths(args.output, args.plot)
+    check_output_paths(args.output, args.plot, inputs=(args.netlist,))
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
     overrides = parse_overrides(args.set, circuit, RUN_SETTING_OPTIONS)  # before the (possibly slow) compilation
     circuit.vectors(overrides)
@@ -305,7 +312,7 @@ def cmd_graph(args) -> int:
     from blocks.netlist.flatten import flatten
 
     output = args.output or str(Path(args.netlist).with_suffix(".png"))
-    check_output_paths(None, output, plot_option="-o")
+    check_output_paths(None, output, plot_option="-o", inputs=(args.netlist,))
     flat = flatten(args.netlist)
     draw_circuit(flat, output)
     print(f"vphs: wrote {output}", file=sys.stderr)
@@ -316,7 +323,7 @@ def cmd_diff(args) -> int:
     from blocks.compare import check_reference_columns, compare, is_netlist, planned_table, resolve, table_from_result
     from blocks.datafile import read_table
 
-    check_output_paths(args.output, args.plot)
+    check_output_paths(args.output, args.plot, inputs=(args.simulated, args.reference))
     netlist = is_netlist(args.simulated)
     if args.set and not netlist:
         raise ArgumentError("vphs: --set applies only when SIMULATED is a netlist")

@@ -166,9 +166,10 @@ class Circuit:
             raise SimulationError(self._failure_message(outcome), ) from None
         beyond = self._beyond_hydraulics(outcome)
         if beyond and settings.solver == "fixed":
-            raise SimulationError(f"{self.flat.file}: {beyond}: the fixed step of {settings.fixed_step:g} s, without "
-                                  f"error control, is too long for this circuit; shorten simulation.fixed_step or "
-                                  f"use solver rodas")
+            raise SimulationError(f"{self.flat.file}: {beyond}: either the fixed step of {settings.fixed_step:g} s, "
+                                  f"without error control, is too long for this circuit (shorten simulation."
+                                  f"fixed_step, or run it with solver rodas to see), or the circuit cannot hold the "
+                                  f"pressure (a closed volume driven with no relief valve?)")
         if beyond:
             result.warnings.append(f"{beyond}: check the circuit (a closed volume driven with no relief valve?)")
         return result

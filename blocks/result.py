@@ -129,7 +129,7 @@ def atomic_write_figure(fig, path: Path) -> None:
 def write_together(*files) -> None:
     """Write files as one: each ``(path, write)`` pair's ``write(tmp)`` fills a temporary file beside its
     target (of the target's suffix, which matplotlib reads the format from), and only when every one is
-    written are they renamed into place, with Ctrl-C held off for those renames. An error or an interrupt
+    written are they renamed into place, a Ctrl-C during those renames taken after them. An error or an interrupt
     before then leaves every target as it was: a results CSV and its plot are never of two different runs."""
     import signal
     import threading
@@ -143,15 +143,20 @@ def write_together(*files) -> None:
             staged.append((Path(tmp), path))
             write(Path(tmp))
             os.chmod(tmp, _umask_mode())  # mkstemp makes 0600; a result file is as readable as any other
+        if len({path.resolve() for _, path in staged}) < len(staged):
+            raise ValueError("write_together: two of the files are one path")
+        interrupted = []
         held = threading.current_thread() is threading.main_thread()
-        if held:
-            signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        if held:  # a handler that only takes note: whichever thread the signal reaches, Python runs it here
+            previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(signum))
         try:
             for tmp, path in staged:
                 os.replace(tmp, path)
         finally:
             if held:
-                signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})
+                signal.signal(signal.SIGINT, previous)
+        if interrupted:
+            raise KeyboardInterrupt
     except BaseException:
         for tmp, _ in staged:
             tmp.unlink(missing_ok=True)

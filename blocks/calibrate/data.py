@@ -168,8 +168,8 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
                                          f"column '{group}' in {file.name}")
     sigma, notes = {}, {}
     for ch in exp.channels:
-        if several and ch.noise_method == "repeats":
-            continue
+        if several and (ch.noise_method == "repeats" or (ch.noise_method == "diff" and kind == "time")):
+            continue  # estimated over all the files (load_data, _join_runs)
         if ch.noise_method == "given":
             sigma[ch.name] = float(ch.noise)
             notes[ch.name] = "given"

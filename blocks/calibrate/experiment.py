@@ -64,7 +64,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
 from blocks.netlist.parameters import ParameterError
-from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key
+from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.units import (GENERIC, UnitError, display_factor, nearest, parse_unit, quantity, quantity_name, si_name,
                           split_quantity)
 
@@ -219,19 +219,22 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
     try:
         return ExperimentSpec.model_validate(located.data), located
     except ValidationError as exc:
+        if (other := wrong_kind(located, "a calibration experiment")) is not None:
+            raise other from None
         errors = exc.errors()
         first = errors[0]
+        if first["type"] == "missing":  # a misspelt key ('heldot:') is missing and unknown at once: say the latter
+            first = next((e for e in errors if e["type"] == "extra_forbidden" and e["loc"][:-1] == first["loc"][:-1]),
+                         first)
         if isinstance(first.get("input"), list):  # a union (data: a file or a list): its list branch's error
             first = next((e for e in errors if any(str(p).startswith("list[") for p in e["loc"])), first)
         path = document_path(located.data, first["loc"])
         where = ".".join(shown_key(p) for p in path) or "experiment"
         message = first["msg"]
         if first["type"] == "extra_forbidden":
-            message = f"unknown key '{shown_key(path[-1])}'" if path else "unknown key"
             model = _model_at(path[:-1])
-            if model is not None:
-                near = nearest(str(path[-1]), model.model_fields)
-                message += f" (allowed: {', '.join(near or sorted(model.model_fields))})"
+            message = (unknown_key(path[-1], model.model_fields) if model is not None
+                       else f"unknown key '{shown_key(path[-1])}'" if path else "unknown key")
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
         elif first["type"] == "too_short" and isinstance(first.get("input"), list):

@@ -19,6 +19,7 @@ import re
 from dataclasses import dataclass, field
 
 import networkx as nx
+import numpy as np
 
 from blocks.errors import NetlistError, VphsError
 from blocks.expressions import Expression, ExpressionError, dotted_name, parse_expression
@@ -169,8 +170,17 @@ class ParameterTable:
         dimension its readers take it in (``n_gear`` in ``J: "0.085 + m*r**2/n_gear**2"`` must be a plain
         number for J to be a moment of inertia; ``"39 rpm"`` is refused, where it used to be read as 4.08).
         A unit no reader constrains (a bare number put only where any unit goes) is converted unchecked.
-        Raises UnitError (no location: the caller names where the value was given)."""
+        An array (a table) takes no single value, and the value must be finite. Raises UnitError (no
+        location: the caller names where the value was given)."""
         entry = self.entries[name]
+        if entry.elements is not None or isinstance(entry.constant, tuple) or getattr(entry.bounds, "array", False):
+            raise UnitError(f"{name} is an array (a table); change it in the netlist")
+        value = self._si(name, entry, raw)
+        if not np.isfinite(value):
+            raise UnitError(f"{raw!r} is not a finite number")
+        return value
+
+    def _si(self, name: str, entry: Entry, raw) -> float:
         if entry.unit not in (None, GENERIC):
             return quantity(raw, entry.unit)
         if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
@@ -181,10 +191,11 @@ class ParameterTable:
         if not unit_text:
             return number
         given = parse_unit(unit_text)
-        if entry.dims is not FREE:
-            if not given.same_dimension(entry.dims):
-                raise UnitError(f"wrong unit '{unit_text}': {name} is in {entry.dims.describe_dims()}")
-        else:
+        known = self.dimension(name)  # declared, written (an expression's too), or its places'
+        if known is not None:
+            if not given.same_dimension(known):
+                raise UnitError(f"wrong unit '{unit_text}': {name} is in {known.describe_dims()}")
+        elif entry.expression is None:  # a bare number: what its readers' expressions make of it
             conflict = self._conflict(name, given)
             if conflict:
                 raise UnitError(f"wrong unit '{unit_text}': with {name} in {given.describe_dims()}, {conflict}")

@@ -326,3 +326,13 @@ def test_a_latent_list_that_is_not_the_commands_levels_is_refused(tmp_path, caps
                                                                        "noise": 0.01}})
     code, err, path = run(tmp_path, capsys, spec, data="t [s],cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
     assert code == 2 and "\n" not in err and re.search(rf"{re.escape(str(path))}:\d+:\d+: {pattern}", err), err
+
+
+def test_a_netlist_or_a_misspelt_key_says_what_it_is(tmp_path, capsys):
+    """A netlist given to calibrate said "netlist: missing 'netlist'"; a misspelt key listed only the near keys
+    as if they were all (a review; netlists and jobs already said so)."""
+    code, err, path = run(tmp_path, capsys, {"components": {"pump": {"type": "flow_source"}}, "nets": {}})
+    assert code == 2 and err == (f"vphs: {path}: this is a netlist (it has components:, nets:), not a calibration "
+                                 f"experiment; run it with vphs run"), err
+    code, err, path = run(tmp_path, capsys, changed(heldot={"scheme": "kfold"}))
+    assert code == 2 and err.endswith("heldot: unknown key 'heldot' (did you mean heldout?)"), err

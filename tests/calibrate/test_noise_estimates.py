@@ -114,4 +114,9 @@ def test_diff_that_cannot_give_a_noise_says_why(tmp_path):
     with pytest.raises(VphsError, match=r"noise: the second differences of 'pA' are the same in over half the samples"):
         _diff_series(tmp_path, [20.0] * 6 + [21.0] * 4)  # a quantised step: one difference of 1, one of -1
     with pytest.raises(VphsError, match=r"noise: the second differences of 'pA' are the same in over half"):
-        _diff_series(tmp_path, [20.0] * 10, files=2)
+        _diff_series(tmp_path, [20.0] * 10, files=2)  # pooled over the files, and still nothing
+    # a short run among several is pooled with the others, not refused on its own (a review's find)
+    data = _diff_series(tmp_path, noisy * 20, files=2)
+    (tmp_path / "run1.csv").write_text("t [s],cmd [1],pA [bar]\n0,0,20\n0.01,0,21\n0.02,0,20\n")
+    data = load_data(load_experiment(tmp_path / "exp.yaml"))
+    assert data.sigma["pA"] > 0 and data.noise_notes["pA"] == "estimated from second differences, pooled over 2 files"

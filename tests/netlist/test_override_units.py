@@ -32,7 +32,6 @@ def test_a_bare_number_takes_the_dimension_its_readers_give_it(table):
                                         r"'0\.085 \+ m_load\*r_pinion\*\*2/n_gear\*\*2' is in .*, expected kg\*m\^2 "
                                         r"\(at .*drive_line\.yaml:\d+\)"):
         table.value_si("n_gear", "39 rpm")
-    assert table.value_si("n_gear", "39") == 39.0  # the failed check left the table as it was
     # a written unit fixes the dimension; a declared one too
     assert table.value_si("m_load", "15 t") == 15000.0
     with pytest.raises(UnitError, match=r"wrong unit 'bar': m_load is in kg"):
@@ -43,6 +42,32 @@ def test_a_bare_number_takes_the_dimension_its_readers_give_it(table):
         table.value_si("n_gear", True)
     # a bare number read only where any unit goes (a generic gain of the controller): converted, unchecked
     assert table.value_si("Kp", "4 1/mm") == pytest.approx(4000.0)
+
+
+def test_a_refused_unit_leaves_the_tables_dimensions_as_they_were(table):
+    before = (dict(table._dims), {name: e.dims for name, e in table.entries.items()})
+    with pytest.raises(UnitError):
+        table.value_si("n_gear", "39 rpm")
+    assert (dict(table._dims), {name: e.dims for name, e in table.entries.items()}) == before
+
+
+def test_an_expressions_dimension_and_an_arrays_places_count_too(tmp_path):
+    """Found by a review of the first version: a parameter written as an expression ('m_base + 0 kg') and a
+    bare number put in a profile's times (an array of durations) took any unit."""
+    doc = yaml.safe_load(DRIVE.read_text())
+    doc["parameters"].update(m_base="7500 kg", m_load="m_base + 0 kg", t_acc=0.5)
+    doc["components"]["v_ref"]["params"]["times"] = [0, "t_acc", 2.5, 3.0]
+    (tmp_path / "net.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    table = Circuit.from_file(tmp_path / "net.yaml", compile=False).flat.parameters
+    with pytest.raises(UnitError, match=r"wrong unit 'm': m_load is in kg"):
+        table.value_si("m_load", "3 m")
+    with pytest.raises(UnitError, match=r"wrong unit 'bar': t_acc is in s"):
+        table.value_si("t_acc", "0.5 bar")
+    assert table.value_si("t_acc", "500 ms") == pytest.approx(0.5)
+    with pytest.raises(UnitError, match=r"v_ref\.times is an array \(a table\)"):
+        table.value_si("v_ref.times", "1 s")
+    with pytest.raises(UnitError, match=r"'1e400' is not a finite number"):
+        table.value_si("n_gear", "1e400")
 
 
 def test_set_of_a_unit_the_netlist_contradicts_is_refused(capsys, tmp_path):

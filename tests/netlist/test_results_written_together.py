@@ -31,6 +31,37 @@ def test_an_interrupt_while_the_second_file_is_written_keeps_both_old_files(tmp_
     assert (a.read_text(), b.read_text()) == ("new a", "new b")
 
 
+def test_a_ctrl_c_during_the_renames_is_taken_after_both(tmp_path, monkeypatch):
+    """A real SIGINT sent just after the first rename (found by a review of the first version, which blocked
+    the signal in the main thread only: another thread took it, and the first file was new, the second old)."""
+    import os
+    import signal
+
+    a, b = tmp_path / "a.csv", tmp_path / "b.png"
+    a.write_text("old a")
+    b.write_text("old b")
+    real_replace, calls = os.replace, []
+
+    def replace_then_interrupt(src, dst):
+        real_replace(src, dst)
+        calls.append(dst)
+        if len(calls) == 1:
+            os.kill(os.getpid(), signal.SIGINT)
+
+    monkeypatch.setattr(os, "replace", replace_then_interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        write_together((a, lambda tmp: tmp.write_text("new a")), (b, lambda tmp: tmp.write_text("new b")))
+    assert (a.read_text(), b.read_text()) == ("new a", "new b") and len(calls) == 2
+    assert signal.getsignal(signal.SIGINT) is signal.default_int_handler
+
+
+def test_two_files_of_one_path_are_refused(tmp_path):
+    with pytest.raises(ValueError, match="two of the files are one path"):
+        write_together((tmp_path / "r.png", lambda tmp: tmp.write_text("csv")),
+                       (tmp_path / "r.png", lambda tmp: tmp.write_text("png")))
+    assert list(tmp_path.iterdir()) == []
+
+
 def test_vphs_run_interrupted_while_plotting_leaves_the_last_runs_csv_and_plot(tmp_path, monkeypatch, capsys):
     csv, png = tmp_path / "r.csv", tmp_path / "r.png"
     assert cli.main(["run", str(DRIVE), "-q", "--t-end", "0.2 s", "-o", str(csv), "--plot", str(png)]) == 0
@@ -44,3 +75,13 @@ def test_vphs_run_interrupted_while_plotting_leaves_the_last_runs_csv_and_plot(t
     assert code == 130 and "interrupted" in capsys.readouterr().err
     assert (csv.read_bytes(), png.read_bytes()) == before
     assert sorted(p.name for p in tmp_path.iterdir()) == ["r.csv", "r.png"]
+
+
+def test_outputs_that_would_destroy_an_input_or_each_other_are_refused(tmp_path, capsys):
+    """Found by a review: `-o same.png --plot same.png` lost the CSV, and `-o` naming the netlist replaced it."""
+    netlist = tmp_path / "net.yaml"
+    netlist.write_text(DRIVE.read_text())
+    assert cli.main(["run", str(netlist), "-q", "-o", str(netlist)]) == 2
+    assert "is an input of this command" in capsys.readouterr().err and netlist.read_text() == DRIVE.read_text()
+    assert cli.main(["run", str(netlist), "-q", "-o", str(tmp_path / "r.png"), "--plot", str(tmp_path / "r.png")]) == 2
+    assert "-o and --plot name one file" in capsys.readouterr().err and not (tmp_path / "r.png").exists()
