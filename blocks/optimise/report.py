@@ -1,7 +1,7 @@
 """The report of a job: markdown with the best parameters and the cost history, and its plots.
 
 Optimisation (``<output>/``): ``report.md``; ``convergence.png`` (every evaluation's cost and the best so
-far against the evaluation index); ``best_signals.png`` (the best design re-simulated: each cost term's
+far against its number on the method's path); ``best_signals.png`` (the best design re-simulated: each cost term's
 signal against its reference, or the high-passed signal, per load case); ``best.json`` (the best
 parameters in SI and the cost terms, the job's fixed ``set:`` values and each load case's overrides, and
 per load case the ``vphs run`` command line that simulates the best design again); ``best_<case>.csv``
@@ -57,21 +57,29 @@ def _param(job, name: str, value: float) -> str:
 
 
 # ---- optimisation -----------------------------------------------------------------------------------------
+def on_path_number(records: list[dict], record: dict) -> int:
+    """A record's number on the method's path (0 first): what a one-worker run numbers it. The log's
+    ``index`` also counts the evaluations discarded on the way, so it depends on the number of workers."""
+    return next(k for k, r in enumerate(records) if r is record)
+
+
 def write_optimise_report(summary) -> Path:
     job, folder = summary.job, Path(summary.folder)
-    records = sorted(summary.records, key=lambda r: r["index"])
+    records = sorted(summary.records, key=lambda r: r["index"])  # the path, in order
     best = summary.best
     _convergence_plot(records, folder / "convergence.png", job.name)
     signals_png = None
     if best is not None:
         results = _resimulate(job, best["parameters"])
         signals_png = folder / "best_signals.png"
-        _signals_plot(job, results, signals_png, f"{job.name}: best design (evaluation {best['index']})")
+        number = on_path_number(records, best)
+        _signals_plot(job, results, signals_png, f"{job.name}: best design (evaluation {number})")
         for case, result in results.items():
             if result is not None:
                 result.write_csv(folder / f"best_{case}.csv")
         atomic_write_text(folder / "best.json", json.dumps(
-            {"job": job.file, "evaluation": best["index"], "cost": best["cost"], "parameters": best["parameters"],
+            {"job": job.file, "evaluation": number, "log_index": best["index"], "cost": best["cost"],
+             "parameters": best["parameters"],
              "units": {k: job.units.get(k, "") for k in best["parameters"]}, "cases": best["cases"],
              "set": job.fixed, "load_cases": dict(job.cases),
              "commands": run_commands(job, best["parameters"])}, indent=2) + "\n")
@@ -127,7 +135,9 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
         lines += ["**No evaluation succeeded.** The errors:", ""]
         lines += [f"- {e}" for e in _distinct_errors(records)] + [""]
         return "\n".join(lines)
-    lines += [f"## Best design: evaluation {best['index']}, cost {_fmt(best['cost'])}", "",
+    number = on_path_number(records, best)
+    log = f" (in the log: {best['index']})" if best["index"] != number else ""
+    lines += [f"## Best design: evaluation {number} of the path{log}, cost {_fmt(best['cost'])}", "",
               "| parameter | best | min | max | scale | netlist value |", "|---|---|---|---|---|---|"]
     for p in job.free:
         lines.append(f"| {p.name} | {_param(job, p.name, best['parameters'][p.name])} | {_param(job, p.name, p.lower)} | "
@@ -151,10 +161,10 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
               "| evaluation | step | cost | " + " | ".join(p.name for p in job.free) + " |",
               "|---|---|---|" + "---|" * len(job.free)]
     running = math.inf
-    for r in records:
+    for number, r in enumerate(records):
         if r["status"] == "ok" and r["cost"] < running:
             running = r["cost"]
-            lines.append(f"| {r['index']} | {r.get('step', '')} | {_fmt(r['cost'])} | "
+            lines.append(f"| {number} | {r.get('step', '')} | {_fmt(r['cost'])} | "
                          + " | ".join(_fmt(r["parameters"][p.name]) for p in job.free) + " |")
     lines.append("")
     if have_signals:
@@ -176,7 +186,7 @@ def _distinct_errors(records: list[dict], limit: int = 8) -> list[str]:
 def _convergence_plot(records: list[dict], path: Path, title: str) -> None:
     plt = _plt()
     fig, ax = plt.subplots(figsize=(8, 4.2))
-    idx = np.array([r["index"] for r in records])
+    idx = np.arange(len(records))  # the number on the method's path (on_path_number), not the log's index
     cost = np.array([r["cost"] for r in records], float)
     ok = np.array([r["status"] == "ok" for r in records])
     if ok.any():

@@ -119,7 +119,11 @@ def test_the_result_does_not_depend_on_the_number_of_workers(tmp_path):
     assert one.discarded == [] and min(r["cost"] for r in two.discarded) < one.best["cost"]  # what made them differ
     saved = [json.loads((s.folder / "best.json").read_text()) for s in (one, two)]
     assert saved[0]["parameters"] == saved[1]["parameters"] and saved[0]["cost"] == saved[1]["cost"]
+    # the best design's number is its place on the path (the log's index also counts the discarded ones)
+    assert saved[0]["evaluation"] == saved[1]["evaluation"] == saved[0]["log_index"] < saved[1]["log_index"]
     report = (two.folder / "report.md").read_text()
+    assert f"## Best design: evaluation {saved[0]['evaluation']} of the path (in the log: {saved[1]['log_index']})" \
+        in report
     assert f"evaluations: {len(one.records)} on the method's path" in report
     assert f"{len(two.discarded)} more were evaluated ahead in parallel and discarded" in report
     # the log keeps every evaluation once and says which were discarded
