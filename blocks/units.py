@@ -283,6 +283,17 @@ def convert(number: float, unit_text: str, declared_unit: str) -> float:
     return number * given.factor
 
 
+def si_value(raw, dims: "Unit | None" = None) -> float:
+    """A number (SI) or '<number> <unit>' in SI, its unit checked against ``dims`` where that is given."""
+    if isinstance(raw, (int, float)) and not isinstance(raw, bool):
+        return float(raw)
+    number, unit_text = split_quantity(str(raw))
+    unit = parse_unit(unit_text)
+    if unit_text and dims is not None and not unit.same_dimension(dims):
+        raise UnitError(f"wrong unit: '{raw}' is in {unit.describe_dims()}, expected {dims.describe_dims()}")
+    return number * unit.factor
+
+
 def split_quantity(text: str) -> tuple[float, str]:
     """Split "207 bar" into (207.0, "bar"); a bare number gives unit ""."""
     m = _QUANTITY.match(text)

@@ -66,7 +66,7 @@ from blocks.errors import NetlistError
 from blocks.netlist.parameters import ParameterError
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.units import (GENERIC, UnitError, display_factor, nearest, parse_unit, quantity, quantity_name, si_name,
-                          split_quantity)
+                          si_value, split_quantity)
 
 Value = Union[float, int, str]
 
@@ -429,7 +429,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
         try:
             corrections[ch_name] = {
                 "offset": quantity(corr.get("offset", 0.0), channel.si_unit) if channel.si_unit not in ("", "1", "SI")
-                else _free_si(corr.get("offset", 0.0)),
+                else si_value(corr.get("offset", 0.0)),
                 "gain": float(quantity(corr.get("gain", 0.0), "1"))}
         except UnitError as exc:
             raise located.error(("corrections", ch_name), f"corrections.{ch_name}: {exc}") from None
@@ -501,13 +501,6 @@ def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> No
     for k, label in enumerate(table.labels):
         for column, target in gt.columns.items():
             groups.setdefault(label, {})[target] = float(table.columns[column][k])
-
-
-def _free_si(raw) -> float:
-    if isinstance(raw, (int, float)) and not isinstance(raw, bool):
-        return float(raw)
-    number, unit = split_quantity(str(raw))
-    return number * (parse_unit(unit).factor if unit else 1.0)
 
 
 def channel_unit(ch: ChannelSpec, levels: list[str], table, signals: dict) -> str:

@@ -62,7 +62,7 @@ from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
-from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, si_name, split_quantity
+from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, si_name, si_value
 
 
 class Strict(BaseModel):
@@ -317,17 +317,6 @@ def _dimension(output):
     return None
 
 
-def _si(raw, dims) -> float:
-    """A number (SI) or '<number> <unit>' (its dimension checked against ``dims`` if known) in SI."""
-    if isinstance(raw, (int, float)) and not isinstance(raw, bool):
-        return float(raw)
-    number, unit_text = split_quantity(str(raw))
-    unit = parse_unit(unit_text)
-    if unit_text and dims is not None and not unit.same_dimension(dims):
-        raise UnitError(f"wrong unit: '{raw}' is in {unit.describe_dims()}, expected {dims.describe_dims()}")
-    return number * unit.factor
-
-
 class _Resolver:
     """Names, units and bounds of a validated job, checked against its netlist."""
 
@@ -482,7 +471,7 @@ class _Resolver:
             reference = t.reference
         elif t.reference is not None:
             try:
-                offset = _si(t.reference, dims)
+                offset = si_value(t.reference, dims)
             except UnitError as exc:
                 hint = nearest(str(t.reference), outputs)
                 raise self.error(path + ("reference",), f"{where}.reference: neither a logged signal"
