@@ -226,8 +226,8 @@ class Circuit:
                 column = outcome.X[:, slot.index]
                 below = np.nonzero(column < p_vap)[0]
                 when = f" first seen at t = {outcome.t[below[0]]:.4g} s" if below.size else " between output samples"
-                found.append(f"cavitation: {self._pressure_name(net)} fell to {low / 1e5:.3g} bar, below the vapour pressure "
-                             f"{p_vap / 1e5:.3g} bar,{when}")
+                found.append(f"cavitation: {self._pressure_name(net)} fell to {low / 1e5:.3g} bar, below the "
+                             f"vapour pressure {p_vap / 1e5:.3g} bar,{when}")
         return found
 
     def _failure_message(self, outcome) -> str:

@@ -159,8 +159,8 @@ class ParameterTable:
             read = self.entries.get(entry.scope.get(local, ""))
             if read is None or read.dims is FREE or read.source.file == entry.source.file:
                 continue
-            where = read.source.error(read.path, "")
-            found.append(f"{read.name} = '{read.written}' at {where.file}:{where.line}")
+            line, _ = read.source.where(read.path)
+            found.append(f"{read.name} = '{read.written}' at {read.source.file}:{line}")
         return f" (it reads {', '.join(found)})" if found else ""
 
     def value_si(self, name: str, raw) -> float:
