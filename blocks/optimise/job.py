@@ -57,7 +57,7 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
-from blocks.netlist.spec import Value
+from blocks.netlist.spec import Count, Number, Value
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
@@ -80,9 +80,9 @@ class TermSpec(Strict):
     signal: str
     reference: Value | None = None
     unit: str | None = None
-    weight: float = Field(1.0, ge=0, allow_inf_nan=False)
+    weight: Number = Field(1.0, ge=0, allow_inf_nan=False)
     wn: Value | None = None
-    zeta: float = Field(0.7071067811865476, gt=0, allow_inf_nan=False)
+    zeta: Number = Field(0.7071067811865476, gt=0, allow_inf_nan=False)
     t_from: Value | None = None
     t_to: Value | None = None
 
@@ -90,13 +90,13 @@ class TermSpec(Strict):
 class CostSpec(Strict):
     terms: dict[str, TermSpec] = Field(min_length=1)
     combine: Literal["sum", "mean", "worst"] = "sum"
-    penalty: float = Field(1e9, gt=0, allow_inf_nan=False)
+    penalty: Number = Field(1e9, gt=0, allow_inf_nan=False)
 
 
 class SweepRange(Strict):
     min: Value
     max: Value
-    points: int = Field(ge=2, le=100_000)
+    points: Count = Field(ge=2, le=100_000)
     log: bool = False
 
 
@@ -107,35 +107,35 @@ class SweepSpec(Strict):
 
 class ComplexSpec(Strict):
     method: Literal["complex"]
-    max_evaluations: int = Field(500, ge=1)
-    points: int | None = Field(None, ge=2)
-    alpha: float = Field(1.3, gt=0, allow_inf_nan=False)
-    n0: float = Field(4.0, gt=0, allow_inf_nan=False)
-    rfak: float = Field(0.0, ge=0, allow_inf_nan=False)
-    gamma: float = Field(0.0, ge=0, allow_inf_nan=False)
-    tol_x: float = Field(1e-4, ge=0)
-    tol_f: float = Field(1e-5, ge=0)
-    max_retractions: int = Field(30, ge=0)
+    max_evaluations: Count = Field(500, ge=1)
+    points: Count | None = Field(None, ge=2)
+    alpha: Number = Field(1.3, gt=0, allow_inf_nan=False)
+    n0: Number = Field(4.0, gt=0, allow_inf_nan=False)
+    rfak: Number = Field(0.0, ge=0, allow_inf_nan=False)
+    gamma: Number = Field(0.0, ge=0, allow_inf_nan=False)
+    tol_x: Number = Field(1e-4, ge=0)
+    tol_f: Number = Field(1e-5, ge=0)
+    max_retractions: Count = Field(30, ge=0)
     candidates: Union[int, Literal["auto"]] = "auto"
 
 
 class NelderMeadSpec(Strict):
     method: Literal["nelder_mead"]
-    max_evaluations: int = Field(500, ge=1)
-    xatol: float = Field(1e-4, gt=0)
-    fatol: float = Field(1e-6, ge=0)
+    max_evaluations: Count = Field(500, ge=1)
+    xatol: Number = Field(1e-4, gt=0)
+    fatol: Number = Field(1e-6, ge=0)
     start: Literal["random", "netlist"] = "random"
     adaptive: bool = False
 
 
 class DESpec(Strict):
     method: Literal["differential_evolution"]
-    max_evaluations: int = Field(1000, ge=1)
-    popsize: int = Field(15, ge=1)
-    tol: float = Field(0.01, ge=0)
-    atol: float = Field(0.0, ge=0)
-    mutation: Union[float, tuple[float, float]] = (0.5, 1.0)
-    recombination: float = Field(0.7, ge=0, le=1)
+    max_evaluations: Count = Field(1000, ge=1)
+    popsize: Count = Field(15, ge=1)
+    tol: Number = Field(0.01, ge=0)
+    atol: Number = Field(0.0, ge=0)
+    mutation: Union[Number, tuple[Number, Number]] = (0.5, 1.0)
+    recombination: Number = Field(0.7, ge=0, le=1)
     strategy: str = "best1bin"
     polish: bool = False
 
@@ -148,8 +148,8 @@ class JobFile(Strict):
     name: str | None = None
     netlist: str
     output: str | None = None
-    seed: int = Field(0, ge=0)
-    workers: int | None = Field(None, ge=1)
+    seed: Count = Field(0, ge=0)
+    workers: Count | None = Field(None, ge=1)
     scheduler: str | None = None
     set: dict[str, Value] = Field(default_factory=dict)
     parameters: dict[str, FreeParameter] = Field(default_factory=dict)

@@ -80,6 +80,8 @@ def test_values_in_units_are_converted_to_si(tmp_path):
     (("weight: 50}", 'weight: 50, t_from: "1.0004 s", t_to: "1.0006 s"}'), 8, "holds 0 of the run's output samples"),
     (("weight: 50}", 'weight: 50, t_from: "3 s"}'), 8, "holds 1 of the run's output samples"),
     (("{min: 1, max: 40, log: true}", "{min: true, max: 40, log: true}"), 4, "parameters.Kp.min: true is not a number"),
+    (("weight: 50}", "weight: yes}"), 8, "cost.terms.pos.weight: true is not a number"),  # was weight 1
+    (("max_evaluations: 50}", "max_evaluations: on}"), 13, "algorithm.max_evaluations: true is not a number"),
 ])
 def test_mistakes_are_located(tmp_path, change, line, message):
     text = GOOD.replace(*change)
