@@ -118,6 +118,9 @@ def main(argv: list[str] | None = None) -> int:
     except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
         if os.environ.get("VPHS_DEBUG"):
             raise
+        if isinstance(exc, OSError) and exc.filename is not None:  # the file system refused: a full disk, a
+            print(f"vphs: {exc.filename}: {exc.strerror or exc}", file=sys.stderr)  # folder gone mid-run
+            return EXIT_FAILED
         print(f"vphs: internal error: {type(exc).__name__}: {exc} (set VPHS_DEBUG=1 for the traceback)",
               file=sys.stderr)
         return EXIT_FAILED

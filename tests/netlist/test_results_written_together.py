@@ -85,3 +85,18 @@ def test_outputs_that_would_destroy_an_input_or_each_other_are_refused(tmp_path,
     assert "is an input of this command" in capsys.readouterr().err and netlist.read_text() == DRIVE.read_text()
     assert cli.main(["run", str(netlist), "-q", "-o", str(tmp_path / "r.png"), "--plot", str(tmp_path / "r.png")]) == 2
     assert "-o and --plot name one file" in capsys.readouterr().err and not (tmp_path / "r.png").exists()
+
+
+def test_a_file_system_that_refuses_the_write_mid_run_is_one_line(tmp_path, monkeypatch, capsys):
+    """A disk that fills (or a folder removed) while the run went on: one line naming the file, not an
+    'internal error' with the exception's class."""
+    import errno
+
+    import blocks.result
+
+    def full(*files):
+        raise OSError(errno.ENOSPC, "No space left on device", str(files[0][0]))
+
+    monkeypatch.setattr(blocks.result, "write_together", full)
+    code = cli.main(["run", str(DRIVE), "-q", "--t-end", "0.1 s", "-o", str(tmp_path / "r.csv")])
+    assert code == 1 and capsys.readouterr().err == f"vphs: {tmp_path / 'r.csv'}: No space left on device\n"
