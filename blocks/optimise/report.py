@@ -176,10 +176,12 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
 
 
 def _distinct_errors(records: list[dict], limit: int = 8) -> list[str]:
+    """Each distinct error once, at the first evaluation that gave it, numbered by its place in ``records``
+    (the method's path, or the sweep's points, in order) as the rest of the report numbers them."""
     seen: dict[str, int] = {}
-    for r in records:
+    for number, r in enumerate(records):
         if r["status"] != "ok":
-            seen.setdefault(str(r.get("error")), r["index"])
+            seen.setdefault(str(r.get("error")), number)
     return [f"evaluation {i}: {e}" for e, i in list(seen.items())[:limit]]
 
 

@@ -106,3 +106,13 @@ def test_a_sweep_maps_each_term_combined_over_the_load_cases_as_the_job_combines
     record = {"cases": {"empty": {"terms": {"pos": 1.0}}, "full": {"terms": {"pos": 3.0}}}}
     got = {how: _combined_term(record, "pos", ["empty", "full"], how) for how in ("sum", "mean", "worst")}
     assert got == {"sum": 4.0, "mean": 2.0, "worst": 3.0}
+
+
+def test_a_failed_evaluation_is_numbered_by_its_place_on_the_path():
+    """The log's index also counts evaluations discarded on the way (several workers); the report numbers
+    the path's evaluations by their place on it, the failures too."""
+    from blocks.optimise.report import _distinct_errors
+
+    records = [{"index": 0, "status": "ok"}, {"index": 3, "status": "failed", "error": "solver"},
+               {"index": 5, "status": "failed", "error": "solver"}, {"index": 6, "status": "failed", "error": "nan"}]
+    assert _distinct_errors(records) == ["evaluation 1: solver", "evaluation 3: nan"]
