@@ -205,15 +205,14 @@ class ParameterTable:
         """What a bare number's readers say against it being in ``dims`` (None: nothing): the dimension check
         of the whole table, rerun with ``name`` written in ``dims``."""
         entry = self.entries[name]
-        order = self.order()
+        order, inferred = self.order(), self._dims
         entry.dims = dims
         try:
             self._check_dimensions(order)
         except NetlistError as exc:
             return f"{exc.message} (at {exc.file}:{exc.line})" if exc.line is not None else exc.message
-        finally:
-            entry.dims = FREE
-            self._check_dimensions(order)
+        finally:  # as it was: the check of the table as written needs no rerun
+            entry.dims, self._dims = FREE, inferred
         return None
 
     def readers(self, name: str) -> list[tuple[Entry, list[Expression]]]:
