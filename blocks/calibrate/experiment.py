@@ -21,6 +21,7 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group
     free:                                # the declared free parameters, values in any unit of their dimension
       k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}
+      shaft.initial: {initial: "0 rpm", per: group}   # one value per group (a time series: per run)
     drift: [k_s]                         # refitted per group (or run), should stay constant
     heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, leave_one_experiment_out (each
                                                 # data file in turn) or {scheme: kfold_experiments, k: 3}
@@ -49,6 +50,13 @@ noise: 0.005}``), the recording is a noisy reading of a latent linear spline who
 runs, one data file each, the netlist reads one of them and each run gets the knots of its own
 recording). Not listed, such a column is imposed exactly, its measurement noise not accounted for; the
 report names it (:func:`read_by_netlist`), and the verdict does when a discrepancy remains.
+
+A free parameter with ``per: group`` is fitted once per group of the data, as ``<name>[<group>]`` (each run
+of a time series: its own initial state when the runs start mid-motion, its own payload; each group of
+steady points: its own setting). The groups are known from the data, so the copies are made with it
+(:func:`blocks.calibrate.run.per_group_globals`). Such a parameter is not in ``drift:`` (drift refits a
+shared one per group), and in a held-out refit the held-out group's own values are fitted to that group
+alone (:mod:`blocks.calibrate.heldout`).
 """
 
 from __future__ import annotations
@@ -87,6 +95,7 @@ class FreeSpec(_Strict):
     lower: Value | None = None
     upper: Value | None = None
     step: Value | None = None
+    per: Literal["group"] | None = None  # one value fitted per group (a time series: per run)
 
 
 class HeldOutSpec(_Strict):
@@ -178,7 +187,9 @@ class Free:
     unit: str  # display unit
     kind: str = "declared"  # declared, latent, trace, candidate, correction
     at: float | None = None  # a latent trace's knot value (kind "trace"): the knot's start time, s
-    run: str | None = None  # a latent level or knot of one run of a grouped time series (name "<...>[<run>]")
+    run: str | None = None  # a latent level or knot of one run of a grouped time series (name "<...>[<run>]"),
+    # or a declared parameter's value in one group (per: group; name "<parameter>[<group>]")
+    per_group: bool = False  # a declared parameter fitted per group (per: group), before per_group_globals
 
 
 @dataclass
@@ -414,10 +425,14 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             raise located.error(path, f"free.{name}: the start value {shown(start)} is outside "
                                       f"[{shown(lower)}, {shown(upper)}]")
         step = si(name, fs.step, path + ("step",)) if fs.step is not None else default_step(start, lower, upper)
-        free.append(Free(name, float(start), float(lower), float(upper), float(step), unit))
+        free.append(Free(name, float(start), float(lower), float(upper), float(step), unit,
+                         per_group=fs.per == "group"))
     for k, name in enumerate(spec.drift):
         if name not in spec.free:
             raise located.error(("drift", k), f"drift: '{name}' is not a free parameter")
+        if spec.free[name].per is not None:
+            raise located.error(("drift", k), f"drift: '{name}' is fitted per group already (free.{name}.per); "
+                                f"drift refits a parameter shared by the groups")
     corrections = {}
     for ch_name, corr in spec.corrections.items():
         channel = next((c for c in channels if c.name == ch_name), None)

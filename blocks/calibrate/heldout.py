@@ -20,6 +20,12 @@ Schemes (``heldout:`` of the experiment):
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
 result).
 
+A parameter fitted per group (``per: group``: a run's initial state, a group's own setting) has, for a group
+held out whole, nothing outside the group to fix it. The fold's refit leaves the group's own values out;
+they are then fitted to the group's held-out outputs alone, everything else held at the refit
+(:func:`fit_own_values`), and the held-out error is what remains. That prediction is conditional on those
+few values (a run's start taken from its own samples); every model compared gets the same.
+
 Each fold's refit runs to convergence: it is given ``max_nfev`` evaluations and, when it stops at that
 limit, continued from where it stopped, up to ``attempts`` times in all. A fold still not converged then is
 named in the result (``unconverged``): a refit cut short predicts worse than the model can, and its error
@@ -163,6 +169,11 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
         fold_rows = model.rows_of_points(idx)
         x0 = res.x.copy()
         active = res.active.copy()
+        whole = {label for label, rows in model.data.groups.items() if np.isin(rows, idx).all()}
+        own = [j for j, g in enumerate(model.layout.globals) if g.kind == "declared" and g.run in whole]
+        x0[own] = [model.layout.globals[j].initial for j in own]
+        fitted_own = active[own].copy()
+        active[own] = False  # nothing outside the fold fixes them: fitted to the fold below
         if model.data.kind == "steady":
             train = res.rows & ~fold_rows
             for k in idx:
@@ -172,9 +183,9 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
                     x0[j] = model.data.measured[ch][int(k)]
         else:
             train = res.rows & ~(fold_rows & outputs)
-            whole = {label for label, rows in model.data.groups.items() if np.isin(rows, idx).all()}
             restarted = [j for j, g in enumerate(model.layout.globals)
-                         if g.kind in ("trace", "trace_time") and knot_in_block(model, g, idx) or g.run in whole]
+                         if g.kind in ("trace", "trace_time") and knot_in_block(model, g, idx)
+                         or g.run in whole and g.kind != "declared"]
             x0[restarted] = [model.layout.globals[j].initial for j in restarted]
             for j in restarted:  # a level no input sample of the held-out run reads: nothing left to fix it
                 g = model.layout.globals[j]
@@ -187,16 +198,14 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
             f = fit(model, f.x, active, train, max_nfev=max_nfev)
         if not f.converged:
             unconverged.append(name)
-        x_pred = f.x.copy()
-        if model.data.kind == "steady":
-            r = model.residuals(x_pred, idx)
-        else:
-            r = f.r
         sel = fold_rows & outputs & res.rows
+        own_fitted = [j for j, a in zip(own, fitted_own) if a]
+        pred = fit_own_values(model, f, own_fitted, sel, max_nfev, attempts) if own_fitted else f
+        r = model.residuals(pred.x, idx) if model.data.kind == "steady" else pred.r
         errors[sel] = r[sel]
         knots = [] if model.data.kind == "steady" else \
             [j for j in restarted if f.active[j] and model.layout.globals[j].kind in ("trace", "trace_time")]
-        A = knot_spread(model, f, knots, sel)
+        A = knot_spread(model, f, knots, sel, pred)
         fold_quadratic, fold_log_det = gaussian_deviance(r[sel], A)
         quadratic, log_det, propagated = quadratic + fold_quadratic, log_det + fold_log_det, propagated + len(knots)
         held_rows |= sel
@@ -213,6 +222,23 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
     n = int(held_rows.sum())
     score, whitened = ((quadratic + log_det) / n, quadratic / n) if n else (float("nan"), float("nan"))
     return HeldOut(scheme, err, rmse, n, per_fold, chi2n, unconverged, score, propagated, whitened)
+
+
+def fit_own_values(model: Model, f: FitResult, own: list[int], rows: np.ndarray, max_nfev: int,
+                   attempts: int) -> FitResult:
+    """The held-out groups' own values of the parameters fitted per group (``per: group``; indices ``own``
+    into x), fitted to the held-out output rows ``rows`` with everything else held at the fold's refit ``f``:
+    a run's initial state or a group's own setting is known from nowhere else. That is a conditional
+    prediction (a few values against the fold's many rows, the same for every model compared); the fold's
+    refit ``f`` decides convergence, as the shared parameters are what the held-out error judges."""
+    active = np.zeros(len(f.x), dtype=bool)
+    active[own] = True
+    g = fit(model, f.x, active, rows, max_nfev=max_nfev)
+    for _ in range(attempts - 1):
+        if g.converged:
+            break
+        g = fit(model, g.x, active, rows, max_nfev=max_nfev)
+    return g
 
 
 def knot_covariance(model: Model, f: FitResult, knots: list[int]) -> np.ndarray:
@@ -238,13 +264,14 @@ def knot_covariance(model: Model, f: FitResult, knots: list[int]) -> np.ndarray:
     return C * f.inflation
 
 
-def knot_spread(model: Model, f: FitResult, knots: list[int], sel: np.ndarray) -> np.ndarray:
-    """A = J_k C_k^1/2 over the rows ``sel`` at the fold's refit ``f`` (S = I + A A^T; no columns without
-    knots)."""
+def knot_spread(model: Model, f: FitResult, knots: list[int], sel: np.ndarray, at: FitResult) -> np.ndarray:
+    """A = J_k C_k^1/2 over the rows ``sel``, C_k from the fold's refit ``f``, J_k at the prediction ``at``
+    (the refit, with the held-out groups' own values fitted: :func:`fit_own_values`) (S = I + A A^T; no
+    columns without knots)."""
     if not knots:
         return np.zeros((int(sel.sum()), 0))
     w, V = np.linalg.eigh(knot_covariance(model, f, knots))
-    return model.jacobian(f.x, knots, None, f.r)[sel] @ (V * np.sqrt(np.maximum(w, 0.0)))
+    return model.jacobian(at.x, knots, None, at.r)[sel] @ (V * np.sqrt(np.maximum(w, 0.0)))
 
 
 def gaussian_deviance(r: np.ndarray, A: np.ndarray) -> tuple[float, float]:

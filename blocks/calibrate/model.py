@@ -9,7 +9,8 @@ or screened candidate parameters, sensor corrections (``offset:<channel>``, ``ga
 time series, the latent levels of the imposed input (netlist parameters of its command profile) or the
 knots of its latent trace (``latent: trace``: the profile that reads the recorded column gets, in place
 of the recording, the knots' times and values as its breakpoints; see :mod:`blocks.calibrate.latent_trace`).
-Steady points carry one latent value per imposed input and point: the true input, of which the measured
+A declared parameter fitted per group (``per: group``) is one global per group, ``<name>[<group>]``, which
+sets ``<name>`` for that group's points or run only. Steady points carry one latent value per imposed input and point: the true input, of which the measured
 column is a noisy reading (errors-in-variables).
 
 Residuals (normalised by each channel's noise sigma):
@@ -103,6 +104,9 @@ class Model:
         self.fixed = dict(exp.overrides)
         self.fixed.update(fixed or {})
         steady_inputs = [c.name for c in exp.inputs if c.parameter is not None]
+        if any(f.per_group for f in globals_):
+            raise ValueError("a per: group parameter reaches the model unexpanded "
+                             "(blocks.calibrate.run.per_group_globals makes its copies)")
         self.layout = Layout(list(globals_), data.n if data.kind == "steady" else 0, steady_inputs)
         self.names = circuit.parameter_names
         settings = circuit.settings
@@ -368,6 +372,7 @@ class Model:
     def _steady_point(self, k: int, x: np.ndarray, base: dict) -> np.ndarray | None:
         over = dict(base)
         over.update(self.exp.groups.get(self.data.labels[k], {}))
+        over.update(self._group_values(x, self.data.labels[k]))
         for i, name in enumerate(self.layout.inputs):
             param = next(c.parameter for c in self.channels if c.name == name)
             over[param] = float(x[self.layout.latent_index(k, i)])
@@ -410,11 +415,15 @@ class Model:
         its latent traces' knots."""
         over = dict(base)
         over.update(self.exp.groups.get(label, {}))
-        for k, f in enumerate(self.layout.globals):
-            if f.run == label and f.kind == "latent":
-                over[f.name.rsplit("[", 1)[0]] = float(x[k])
+        over.update(self._group_values(x, label))
         over.update(self._trace_overrides(x, label))
         return over
+
+    def _group_values(self, x: np.ndarray, label: str) -> dict:
+        """The globals of one group (or run): its latent command levels and its values of the declared
+        parameters fitted per group (``<name>[<group>]`` sets ``<name>``)."""
+        return {f.name.rsplit("[", 1)[0]: float(x[k]) for k, f in enumerate(self.layout.globals)
+                if f.run == label and f.kind in ("latent", "declared")}
 
     def _run_signals(self, label: str, over: dict, idx: np.ndarray) -> np.ndarray:
         """Every logged signal at the samples ``idx`` of run ``label``, simulated with ``over`` (cached)."""

@@ -25,7 +25,7 @@ that the folder holds one run's files or the previous run's, never a mix.
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -110,7 +110,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     data = load_data(exp)
     scheme = folds_of(data, exp.spec.heldout)[0] if with_heldout else ""
     cal = Calibration(exp, data, out)
-    globals_ = list(exp.free) + latent_globals(exp, data, cal.held_levels)
+    globals_ = per_group_globals(exp, data) + latent_globals(exp, data, cal.held_levels)
     netlist = exp.netlist
     x_prev: np.ndarray | None = None
     prev_model: Model | None = None
@@ -189,7 +189,8 @@ def write_calibrated(cal: Calibration) -> Path | None:
     the calibrated model. A time series of one run gets its fitted command too (the latent levels, or the
     profile through a recorded trace's knots): run, it reproduces the final fit. Steady points and runs of
     several keep the netlist's own inputs and per-group values (the experiment's differ point by point, run
-    by run). Sensor corrections act on the data, not the netlist. A fitted parameter that is neither a
+    by run), and so do parameters fitted per group (named in the header). Sensor corrections act on the data,
+    not the netlist. A fitted parameter that is neither a
     netlist parameter nor a component's (one inside a subsystem) is listed in the header as not set."""
     if cal.final is None:
         return None
@@ -199,7 +200,8 @@ def write_calibrated(cal: Calibration) -> Path | None:
     kinds = ("declared", "candidate") + (("latent",) if one_run else ())
     values = [(name, value) for name, value in cal.exp.overrides.items()] + [
         (g.name, written(float(x[k]), g.unit))
-        for k, g in enumerate(cal.final.model.layout.globals) if g.kind in kinds]
+        for k, g in enumerate(cal.final.model.layout.globals) if g.kind in kinds and g.run is None]
+    per_group = [g.name for g in cal.final.model.layout.globals if g.kind == "declared" and g.run is not None]
     if one_run:  # a recorded command: the profile through the fitted knots instead of the recording
         for (profile, _run), (times, knots) in cal.final.model.trace_knots(x).items():
             values += [(f"{profile}.times", [float(t) for t in times]),
@@ -223,7 +225,9 @@ def write_calibrated(cal: Calibration) -> Path | None:
     doc.write(target, header=f"Calibrated by vphs calibrate for {Path(cal.exp.file).name}: {cal.final.netlist.name} "
                              f"with the experiment's overrides and every fitted parameter at its final value:{fitted}"
                              f"\n{inputs}" + (f"\nNot set here (not a netlist or component parameter): "
-                                               f"{', '.join(missed)}." if missed else ""))
+                                               f"{', '.join(missed)}." if missed else "")
+                             + (f"\nFitted per group, so not set here (the report gives each): "
+                                f"{', '.join(per_group)}." if per_group else ""))
     return target
 
 
@@ -306,6 +310,23 @@ def _adopt(cal: Calibration, stage: Stage, netlist: Path, globals_: list[Free]) 
     held-out error is computed once the checks are done, for the model that ends final)."""
     cal.final = stage
     write_augmented_experiment(cal.exp, cal, netlist, globals_, stage, cal.out)
+
+
+def per_group_globals(exp: Experiment, data: Dataset) -> list[Free]:
+    """The declared free parameters, each ``per: group`` one made a copy per group of the data,
+    ``<name>[<group>]``, with the same start, bounds and step (the groups: the grouping column's values, or
+    the data files of a time series of several runs). An error naming the entry if the data have one group."""
+    out = []
+    for f in exp.free:
+        if not f.per_group:
+            out.append(f)
+            continue
+        if len(data.groups) < 2:
+            raise exp.error(("free", f.name, "per"), f"free.{f.name}.per: group: the data have one group"
+                            + (" (no grouping column)" if exp.spec.group is None else "")
+                            + "; leave per: out to fit one value")
+        out += [replace(f, name=f"{f.name}[{label}]", run=label, per_group=False) for label in data.groups]
+    return out
 
 
 def latent_globals(exp: Experiment, data: Dataset, held: list[str] | None = None) -> list[Free]:

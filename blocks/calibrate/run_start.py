@@ -59,8 +59,7 @@ class StartMisfit:
                            + ("; the runs share the netlist: in an experiment of its own" if self.several_runs
                               else "") + ") and give or free the initial values there")
         names = ", ".join(initial_values[:LISTED]) + (", ..." if len(initial_values) > LISTED else "")
-        shared = " (free ones are shared by the runs: give a run that starts elsewhere an experiment of its own)" \
-            if self.several_runs else ""
+        shared = " (each run its own: per: group)" if self.several_runs else ""
         return said + (f"If the machine was moving or loaded when the recording began, give the netlist's initial "
                        f"values or free them{shared}" + (f": {names}" if names else ""))
 

@@ -188,7 +188,7 @@ def test_a_scalar_where_a_mapping_belongs_names_the_keys_not_a_class(tmp_path, c
     """Before: 'free.k_s: Input should be a valid dictionary or instance of FreeSpec'."""
     code, err, path = run(tmp_path, capsys, changed(**{"free": {"k_s": "50 bar"}}))
     assert code == 2
-    assert err.endswith(": free.k_s: expected a mapping with keys initial, lower, upper, step, got str '50 bar'"), err
+    assert err.endswith(": free.k_s: expected a mapping with keys initial, lower, upper, step, per, got str '50 bar'"), err
 
 
 # ---------------------------------------------------------------- imposed inputs in the netlist's dimension
