@@ -98,16 +98,16 @@ def main(argv: list[str] | None = None) -> int:
         args = build_parser().parse_args(argv)
         return COMMANDS[args.command](args)
     except ArgumentError as exc:
-        print(exc, file=sys.stderr)
+        _say(exc)
         return EXIT_BAD_INPUT
     except SimulationError as exc:
-        print(f"vphs: {exc}", file=sys.stderr)
+        _say(f"vphs: {exc}")
         return EXIT_FAILED
     except VphsError as exc:
-        print(f"vphs: {exc}", file=sys.stderr)
+        _say(f"vphs: {exc}")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        print("vphs: interrupted; nothing half-written was left behind", file=sys.stderr)
+        _say("vphs: interrupted; nothing half-written was left behind")
         return 130
     except BrokenPipeError:  # `vphs blocks | head`: the reader left; not an error of ours
         try:
@@ -119,10 +119,9 @@ def main(argv: list[str] | None = None) -> int:
         if os.environ.get("VPHS_DEBUG"):
             raise
         if isinstance(exc, OSError) and exc.filename is not None:  # the file system refused: a full disk, a
-            print(f"vphs: {exc.filename}: {exc.strerror or exc}", file=sys.stderr)  # folder gone mid-run
+            _say(f"vphs: {exc.filename}: {exc.strerror or exc}")  # folder gone mid-run
             return EXIT_FAILED
-        print(f"vphs: internal error: {type(exc).__name__}: {exc} (set VPHS_DEBUG=1 for the traceback)",
-              file=sys.stderr)
+        _say(f"vphs: internal error: {type(exc).__name__}: {exc} (set VPHS_DEBUG=1 for the traceback)")
         return EXIT_FAILED
 
 
@@ -276,6 +275,9 @@ def cmd_run(args) -> int:
     return 0
 
 
+_PROGRESS_LINE = {"open": False}  # a progress line on stderr not yet ended by a newline
+
+
 def _progress_printer(silent: bool):
     """Progress on stderr for runs that take more than a second (nothing for quick ones)."""
     state = {"shown": False}
@@ -288,8 +290,17 @@ def _progress_printer(silent: bool):
         end = "\n" if fraction >= 1.0 else ""
         print(f"\rvphs: {100 * fraction:5.1f} % simulated, {seconds:6.1f} s elapsed, ~{eta:5.1f} s left",
               end=end, file=sys.stderr, flush=True)
+        _PROGRESS_LINE["open"] = not end
 
     return show
+
+
+def _say(message) -> None:
+    """An error on stderr, on a line of its own (after a progress line the failure interrupted)."""
+    if _PROGRESS_LINE["open"]:
+        print(file=sys.stderr)
+        _PROGRESS_LINE["open"] = False
+    print(message, file=sys.stderr)
 
 
 def cmd_blocks(args) -> int:

@@ -311,7 +311,10 @@ def file_format() -> str:
         "",
         "Units combine with `*` (or a space), `/` and `^` (`\"m^3/(s*Pa)\"`, `\"N*m*s/rad\"`). Angle is a "
         "dimension of its own, so `rev`, `rpm` and `Hz` convert to radians (1 Hz = 2π rad/s) and a "
-        "displacement in `cm^3/rev` fits a parameter in `m^3/rad`. Pressures are gauge. Known units:",
+        "displacement in `cm^3/rev` fits a parameter in `m^3/rad`. Hand formulas carry the radian along: "
+        "a motor's torque D*dp is in `N*m/rad` as written, so a torque from it is `\"D*dp*(1 rad)\"` "
+        "(`\"m*g*r/n/D/(1 rad)\"` for the pressure that holds a load), and a rotational damping is in "
+        "`N*m*s/rad`. Pressures are gauge. Known units:",
         "",
         _units_table(),
         "Array parameters (tables, coefficients) take a list of values (`[0, 0.5 s, t_acc]`) or a column "

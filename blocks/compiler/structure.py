@@ -205,7 +205,9 @@ def _hydraulic_states(st: Structure) -> None:
         if not net.has_volume and not stores:
             if net.default_volume is None:
                 raise net.source.error(net.path, f"hydraulic net '{net.name}' has no volume: give it volume:, "
-                                       f"attach a volume component, or set defaults: volume: in the netlist")
+                                       f"attach a volume component, or set defaults: volume: in the netlist "
+                                       f"(a net held at a pressure, such as a return line, gets a tank or "
+                                       f"pressure_source instead)")
             raw, source, scope = net.default_volume
             circuit.parameters.add(make_entry(f"{net.name}.volume", raw, "m^3", scope, source, ("defaults", "volume"),
                                               NET_BOUNDS["volume"]))

@@ -189,6 +189,17 @@ def test_relief_valve_closed_partly_open_full():
     )
 
 
+
+def test_a_full_open_pressure_at_or_below_the_setting_is_refused():
+    """p_open <= p_set would make the opening a jump of the whole area (a solver that then crawls for
+    seconds before it gives up); the values are refused with both numbers, as vphs validate shows them."""
+    assert ReliefValve.check_values({"p_set": 200 * BAR, "p_open": 210 * BAR}) is None
+    assert CheckValve.check_values({"p_crack": 0.2 * BAR, "p_open": 0.7 * BAR}) is None
+    for p_open in (200 * BAR, 190 * BAR):
+        said = ReliefValve.check_values({"p_set": 200 * BAR, "p_open": p_open})
+        assert said == f"p_open = {p_open / BAR:g} bar must be above p_set = 200 bar (the valve opens over p_set ... p_open)"
+    assert "must be above p_crack = 0.5 bar" in CheckValve.check_values({"p_crack": 0.5 * BAR, "p_open": 0.2 * BAR})
+
 # ---------------------------------------------------------------- motor
 MOTOR = dict(D=2 * 30e-6 / (2 * math.pi), J_m=0.0068, eta_hm=1.0, w_w=0.1)
 

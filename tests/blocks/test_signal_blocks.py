@@ -435,6 +435,26 @@ def test_pid_back_calculation_stops_the_windup():
             assert_allclose(y2, u_max)  # still saturated a second later (wound-up integral to unwind)
 
 
+def test_pid_with_ki_zero_keeps_an_offset_from_saturation_unless_kaw_is_zero():
+    """Ki = 0 (a P controller): saturated from t = 0 (Kp e = 2 > u_max = 1), the back-calculation moves xi
+    as xi(t) = (u_max - Kp e)(1 - exp(-Kaw t)); back inside the limits (e = 0.1) nothing moves it again, so
+    the output keeps that offset, Kp e + xi, instead of Kp e. With Kaw = 0 xi stays 0 (the docstring's
+    advice for a P controller)."""
+    Kp, e, u_max, Kaw = 2.0, 1.0, 1.0, 4.0
+    t = np.linspace(0.0, 2.0, 101)
+    common = dict(Kp=Kp, Ki=0.0, Kd=0.0, u_min=-u_max, u_max=u_max)
+    z, _ = simulate(PID, params_of(PID, Kaw=Kaw, **common), lambda t: {"e": e}, t, method="Radau")
+    assert_allclose(z[0], (u_max - Kp * e) * (1.0 - np.exp(-Kaw * t)), atol=1e-7)
+    t2 = np.linspace(2.0, 4.0, 51)
+    z2, y2 = simulate(PID, params_of(PID, Kaw=Kaw, **common), lambda t: {"e": 0.1}, t2, method="Radau",
+                      start=z[:, -1])
+    assert z[0, -1] < -0.99
+    assert_allclose(z2[0], z[0, -1], atol=1e-12)
+    assert_allclose(y2, Kp * 0.1 + z[0, -1], atol=1e-7)
+    z0, _ = simulate(PID, params_of(PID, Kaw=0.0, **common), lambda t: {"e": e}, t, method="Radau")
+    assert_allclose(z0[0], 0.0, atol=1e-12)
+
+
 # ---------------------------------------------------------------- numba: the compiler can use every function
 def numba_cases():
     xs3 = A([0.1, -0.2, 0.3])

@@ -451,3 +451,17 @@ def test_parameter_named_like_a_constant_or_function_is_refused(name, param, nee
 def test_component_or_net_named_fluid_is_refused(name, needle):
     """Old: both loaded (the component's parameter became fluid.value, beside fluid.beta...)."""
     assert_located(name, needle, ["'fluid'", "reserved"])
+
+
+def test_a_failure_after_progress_starts_on_its_own_line(capsys):
+    """Before: a run that failed after showing progress printed its error onto the progress line
+    ('~ 7.6 s leftvphs: ...: the solver failed'), which a terminal shows as one garbled line."""
+    show = cli._progress_printer(silent=False)
+    show(0.5, 2.0)
+    cli._say("vphs: the solver failed")
+    cli._say("vphs: a second line")
+    err = capsys.readouterr().err
+    assert err.endswith(" s left\nvphs: the solver failed\nvphs: a second line\n"), repr(err)
+    show(1.0, 4.0)  # a finished progress line ends itself: no blank line after it
+    cli._say("vphs: done")
+    assert capsys.readouterr().err.endswith(" s left\nvphs: done\n")

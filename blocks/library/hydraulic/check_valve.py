@@ -15,7 +15,7 @@ class CheckValve(Block):
 
     s is the C1 cubic ramp: 0 for dp <= p_crack (closed: only the leakage area A_leak passes flow, in
     either direction), 1 for dp >= p_open (fully open, area A_max), smooth in between. p_open > p_crack
-    is required for a smooth opening (p_open <= p_crack degenerates to a step). The leakage area keeps
+    is required (checked when the values are set: p_open <= p_crack would be a step). The leakage area keeps
     the closed valve well-conditioned.
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.
@@ -30,6 +30,14 @@ class CheckValve(Block):
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient"),
         Param("dp_t", "Pa", 1e5, 1.0, 1e7, "laminar-turbulent transition pressure drop (regularisation width)"),
     ) + fluid_params()[:1]
+
+    @classmethod
+    def check_values(cls, values: dict) -> str | None:
+        """The opening needs a range: p_open above p_crack (at or below it the area would jump)."""
+        if values["p_open"] <= values["p_crack"]:
+            return (f"p_open = {values['p_open'] / 1e5:g} bar must be above p_crack = {values['p_crack'] / 1e5:g} bar "
+                    f"(the valve opens over p_crack ... p_open)")
+        return None
 
     @staticmethod
     def derivatives(a, b, A_max, p_crack, p_open, A_leak, Cd, dp_t, rho):

@@ -15,7 +15,7 @@ class ReliefValve(Block):
 
     s is the C1 cubic ramp: 0 for dp <= p_set (closed, only leakage A_leak), 1 for dp >= p_open (fully
     open, area A_max); p_open - p_set is the pressure override (regulation range) and must be > 0 for a
-    smooth opening. Same law as the check valve, with a working-pressure setting.
+    smooth opening (checked when the values are set). Same law as the check valve, with a working-pressure setting.
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.
     """
@@ -29,6 +29,14 @@ class ReliefValve(Block):
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient"),
         Param("dp_t", "Pa", 1e5, 1.0, 1e7, "laminar-turbulent transition pressure drop (regularisation width)"),
     ) + fluid_params()[:1]
+
+    @classmethod
+    def check_values(cls, values: dict) -> str | None:
+        """The opening needs a range: p_open above p_set (at or below it the area would jump)."""
+        if values["p_open"] <= values["p_set"]:
+            return (f"p_open = {values['p_open'] / 1e5:g} bar must be above p_set = {values['p_set'] / 1e5:g} bar "
+                    f"(the valve opens over p_set ... p_open)")
+        return None
 
     @staticmethod
     def derivatives(a, b, p_set, p_open, A_max, A_leak, Cd, dp_t, rho):

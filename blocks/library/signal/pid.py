@@ -18,7 +18,10 @@ class PID(Block):
                                            Kd*(e - xd)/Tf = Kd*s/(Tf*s + 1) e)
     Anti-windup: while saturated y - v pulls the integral back; at constant e it settles at
     v = u_lim + Ki*e/Kaw instead of growing without bound. Kaw ~ Ki/Kp (= 1/Ti) or 1/sqrt(Ti*Td) are the
-    usual choices; Kaw = 0 disables it. Direct feedthrough of e (through Kp and Kd).
+    usual choices; Kaw = 0 disables it. It acts with Ki = 0 too (as a PID block with back-calculation
+    does): while the output is limited xi moves, and once the output is back inside the limits it stays
+    where it ended, an offset built by the saturation alone. A P or PD controller that can saturate
+    takes Kaw = 0. Direct feedthrough of e (through Kp and Kd).
     Units: Kp in unit(y)/unit(e), Ki in that per s, Kd in that times s; Tf in s, Kaw in 1/s; y, u_min, u_max
     and xi in y's (SI) unit, xd in e's.
     """
@@ -31,7 +34,7 @@ class PID(Block):
         Param("Tf", "s", 0.01, 1e-9, None, "time constant of the derivative filter"),
         Param("u_min", "SI", -UNLIMITED, None, None, "lower output limit (SI; default unlimited)"),
         Param("u_max", "SI", UNLIMITED, None, None, "upper output limit (SI; default unlimited)"),
-        Param("Kaw", "1/s", 1.0, 0.0, None, "back-calculation anti-windup gain (0: none)"),
+        Param("Kaw", "1/s", 1.0, 0.0, None, "back-calculation anti-windup gain (0: none; acts with Ki = 0 too)"),
     )
     states = (
         State("xi", "SI", 0.0, 1.0, "integral part of the output (its start is the initial integral action)"),
