@@ -11,6 +11,7 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from blocks.block import argument_names
+from blocks.library.hydraulic.accumulator import Accumulator
 from blocks.library.hydraulic.check_valve import CheckValve
 from blocks.library.hydraulic.cylinder import Cylinder
 from blocks.library.hydraulic.flow import turbulent_flow
@@ -52,7 +53,7 @@ def sqrt_law(dp, area, cd=0.7, rho=RHO):
         ("flow_source_signal", FlowSourceSignal), ("volume", Volume), ("variable_orifice", VariableOrifice),
         ("laminar_orifice", LaminarOrifice), ("check_valve", CheckValve), ("relief_valve", ReliefValve),
         ("pressure_sensor", PressureSensor), ("flow_sensor", FlowSensor), ("hydraulic_motor", HydraulicMotor),
-        ("valve_4_3", Valve43), ("cylinder", Cylinder),
+        ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator),
     ],
 )
 def test_hydraulic_block_registered(type_name, cls):

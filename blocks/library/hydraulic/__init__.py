@@ -1,6 +1,7 @@
 """Hydraulic blocks. Each module registers one block."""
 
 from blocks.library.hydraulic import (  # noqa: F401
+    accumulator,
     check_valve,
     cylinder,
     flow_sensor,

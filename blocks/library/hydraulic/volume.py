@@ -11,7 +11,8 @@ class Volume(Block):
     q_port = 0,  V_port = V   [m^3]
 
     The net's pressure then obeys dp/dt = beta/V_net * sum(q), with V_net the sum of the volumes stored on
-    it (lines, chambers, accumulators) and beta the fluid bulk modulus.
+    it (lines, chambers) and beta the fluid bulk modulus (an accumulator's gas is a block of its own,
+    ``accumulator``, with its oil volume as a state).
     """
 
     ports = (hydraulic("port", "the net whose capacity this volume adds to", stores=True),)
