@@ -10,8 +10,8 @@ time series, the latent levels of the imposed input (netlist parameters of its c
 knots of its latent trace (``latent: trace``: the profile that reads the recorded column gets, in place
 of the recording, the knots' times and values as its breakpoints; see :mod:`blocks.calibrate.latent_trace`).
 A declared parameter fitted per group (``per: group``) is one global per group, ``<name>[<group>]``, which
-sets ``<name>`` for that group's points or run only. Steady points carry one latent value per imposed input and point: the true input, of which the measured
-column is a noisy reading (errors-in-variables).
+sets ``<name>`` for that group's points or run only. Steady points carry one latent value per imposed input
+and point: the true input, of which the measured column is a noisy reading (errors-in-variables).
 
 Residuals (normalised by each channel's noise sigma):
     output channel c, point or sample k:  r = (g_c*y_c(x, k) + o_c - y_meas) / sigma_c,  g_c = 1 + gain:c

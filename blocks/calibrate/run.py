@@ -45,7 +45,7 @@ from blocks.calibrate.model import Model
 from blocks.calibrate.patch import NetlistDoc, written
 from blocks.calibrate.run_start import initial_values, start_misfits
 from blocks.calibrate.screening import Score, screen
-from blocks.calibrate.selection import Decision, decide
+from blocks.calibrate.selection import Z_MIN, Decision, decide
 from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
 from blocks.result import atomic_write_text
 
@@ -98,6 +98,7 @@ class Calibration:
     equilibria: int = 0  # Newton solves of steady points
     calibrated: Path | None = None  # the final netlist with the fitted values (write_calibrated)
     held_levels: list = field(default_factory=list)  # command levels no sample reads (latent_globals)
+    restarts: list = field(default_factory=list)  # verdict lines: fits restarted from a refit (better_start)
 
 
 def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=None, rounds: int | None = None,
@@ -126,6 +127,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
                 say(f"held out: {scheme}")  # input found there must be the one line printed)
         t1 = time.perf_counter()
         rnd = trace_round(k, stage, exp, data, globals_, out, with_heldout)
+        stage, rnd = restart_if_short(cal, k, stage, rnd, netlist, globals_, with_heldout, say)
         stage.heldout = rnd.decision.base_heldout or (heldout(stage.model, stage.fit, exp.spec.heldout)
                                                        if with_heldout else None)
         cal.rounds.append(rnd)
@@ -441,10 +443,13 @@ def context(stage: Stage, exp: Experiment, data: Dataset, doc: NetlistDoc) -> Co
     p_ref = min((data.sigma[c.name] for c in pressures), default=1e4)
     speeds = channels_in("rad/s")
     w_ref = max((float(np.max(np.abs(data.measured[c.name]))) for c in speeds), default=10.0) or 10.0
+    velocities = channels_in("m/s")
+    v_ref = max((float(np.max(np.abs(data.measured[c.name]))) for c in velocities), default=0.1) or 0.1
     t_span = max(float(data.t[idx[-1]] - data.t[idx[0]]) for idx in data.groups.values()) if data.kind == "time" \
         else stage.model.settings.t_end
     values = circuit.vectors(dict(exp.overrides)).values
-    return Context(doc, circuit.flat, circuit.structure, values, exp, data, logged, q_ref, p_ref, w_ref, t_span)
+    return Context(doc, circuit.flat, circuit.structure, values, exp, data, logged, q_ref, p_ref, w_ref, t_span,
+                   v_ref=v_ref)
 
 
 def all_places(ctx: Context, spec, taken: set[str]):
@@ -540,7 +545,7 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
     elimination check is "removed"; one the final fit no longer holds over 3 SE from zero that the check
     could not take out (the last one, or a model that cannot be built without it) is "superseded", not
     "found"; it stays in the augmented netlist, where its fitted value is what the final fit says."""
-    lines = []
+    lines = list(getattr(cal, "restarts", []))
     for key, title, where, param, value, se, unit in cal.accepted:
         found = abs(value) > 3.0 * se
         se = shown_offset(cal.exp, key, se, unit)[0]  # a sensor offset in its channel's unit, as the data are
@@ -556,6 +561,8 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines.append(f"exchanged: {ex.out_key} (accepted in round {ex.round}) for {ex.in_key}, which fits better "
                          f"beside the effects found after it (BIC lower by {-ex.dbic:.3g})"
                          + ("; by less than 10: ambiguous between the two" if ex.ambiguous else ""))
+    removed = [(test.key, next((a[3] for a in cal.accepted if a[0] == test.key), test.key))
+               for test in cal.removals if test.removed]
     for test in cal.removals:
         if test.removed:
             lines.append(f"removed: {test.key} (accepted in round {test.round}): beside the other effects it is "
@@ -564,12 +571,15 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
     for rnd in cal.rounds:
         if rnd.stopped:
             lines.append(f"round {rnd.index}: the trace stopped: {rnd.stopped}")
+        lines += refused_as_implausible(rnd)
         if rnd.decision.ambiguous:
             best = rnd.decision.accepted or next((r for r in rnd.decision.refits if r.passes_fit_tests), None)
             name = best.score.place.key if best else "?"
             lines.append(f"round {rnd.index}: ambiguous between {name} and {', '.join(rnd.decision.ambiguous)}")
             lines += [f"  to separate them: {s}" for s in rnd.decision.separation]
-            lines += [f"  what the choice changes: {s}" for s in rnd.decision.depends]
+            lines += [f"  what the choice changes: {s}" + "".join(
+                f" ({param}, of {key}, was removed after this round)" for key, param in removed if param in s)
+                      for s in rnd.decision.depends]
     unexplained = False
     if getattr(cal, "held_levels", None):
         lines.append(f"not fitted: {', '.join(cal.held_levels)}, command level(s) in force only after the last "
@@ -587,6 +597,11 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
         lines.append(f"the final fit stopped at its limit of {cal.final.fit.nfev} evaluations before converging: "
                      f"its values may not be the best fit")
     if cal.final is not None:
+        for c in cal.final.lof.overstated_noise():
+            lines.append(f"{c.name}: chi^2/nu = {c.reduced:.3g}, far below 1: its residuals (RMS "
+                         f"{c.rmse / c.sigma:.2g} of its noise) are much smaller than the noise given; check its "
+                         f"noise and the noise's unit: with the noise overstated every test here is lenient, and an "
+                         f"effect can go unseen")
         reasons = cal.final.lof.significant()
         if reasons:
             unexplained = True
@@ -608,6 +623,67 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
         else:
             lines.append("the augmented model fits to the noise")
     return lines, unexplained
+
+
+RESTART_DROP = 25.0
+"""A refit whose candidate is under 3 SE from zero but whose chi^2 is this much below the fit's (25: a
+5-sigma drop for one parameter, where a candidate under 3 SE accounts for about z^2 < 9 of it) went to a
+better minimum of the other parameters."""
+RESTART_GAIN = 10.0
+"""The fit restarted from there is kept if its chi^2 is lower by over this (the BIC margin of an effect)."""
+
+
+def restart_if_short(cal: Calibration, k: int, stage: Stage, rnd: Round, netlist: Path, globals_: list[Free],
+                     with_heldout: bool, say) -> tuple[Stage, Round]:
+    """The round's fit and trace, or, when a refit shows that the fit stopped short of its best
+    (:func:`better_start`), the fit restarted from that refit's values (without its candidate) and the round
+    traced again from it, if that lowers chi^2 by over RESTART_GAIN; said in the verdict."""
+    better = better_start(rnd)
+    if better is None:
+        return stage, rnd
+    restarted = fit_stage(netlist, cal.exp, cal.data, globals_, better.fit.x, better.model)
+    if not restarted.fit.chi2 < stage.fit.chi2 - RESTART_GAIN:
+        _count_runs(cal, [restarted])
+        return stage, rnd
+    cal.restarts.append(
+        f"round {k}: the fit had stopped short of its best (chi^2 {stage.fit.chi2:.5g}): the refit with "
+        f"{better.score.place.key} reached chi^2 {better.fit.chi2:.5g} with that candidate {better.z:.2g} SE "
+        f"from zero, so through the other parameters; refitted from there without it: chi^2 "
+        f"{restarted.fit.chi2:.5g}, and the round was traced again from that fit")
+    say(cal.restarts[-1])
+    _count_runs(cal, [stage])  # the fit and trace it replaces
+    if k == 1:
+        cal.initial = restarted
+    return restarted, trace_round(k, restarted, cal.exp, cal.data, globals_, cal.out, with_heldout)
+
+
+def better_start(rnd: Round):
+    """The refit of the round that shows the fit it started from stopped short of its best: its candidate is
+    not significant (under 3 SE from zero) and yet its chi^2 is over RESTART_DROP below the fit's, so the
+    other parameters found a better minimum on the way (an oscillating circuit's fit started 20 % off its
+    mass can stop in a local minimum). The lowest such refit, or None."""
+    base = rnd.stage.fit.chi2
+    found = [rf for rf in rnd.decision.refits
+             if rf.z < Z_MIN and not rf.run_failure and rf.fit.chi2 < base - RESTART_DROP]
+    return min(found, key=lambda rf: rf.fit.chi2, default=None)
+
+
+def refused_as_implausible(rnd: Round) -> list[str]:
+    """A verdict line for each refit of the round that the data ask for (over 3 SE, BIC over 10 lower) and
+    that fits better than what the round accepted, refused only because its value lies outside the
+    candidate's plausible range: a limit of the library, not of the data, which the engineer must see."""
+    accepted = rnd.decision.accepted
+    out = []
+    for rf in rnd.decision.refits:
+        if rf.only_implausible and (accepted is None or rf.dbic < accepted.dbic):
+            place, lo_hi = rf.score.place, rf.score.place.plausible
+            unit = "" if place.unit in ("", "1", "SI") else f" {place.unit}"
+            out.append(f"round {rnd.index}: {place.key} = {rf.phi:.4g} +- {rf.se:.2g}{unit} (dBIC {rf.dbic:.4g}"
+                       + (f", better than the accepted {accepted.score.place.key}" if accepted else "")
+                       + f") was refused only as outside its plausible range [{lo_hi[0]:.3g}, {lo_hi[1]:.3g}]"
+                       f"{unit}: if such a value is possible in this machine, the effect is there and the library's "
+                       f"range is what refused it")
+    return out
 
 
 def unidentified(stage: Stage) -> list[str]:

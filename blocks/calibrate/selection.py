@@ -90,6 +90,11 @@ class Refit:
     def passes_fit_tests(self) -> bool:
         return self.z > Z_MIN and self.plausible and self.dbic < DBIC_MAX and not self.run_failure
 
+    @property
+    def only_implausible(self) -> bool:
+        """Passes every fit test but the plausible range: the data ask for it, the range refuses it."""
+        return self.z > Z_MIN and not self.plausible and self.dbic < DBIC_MAX and not self.run_failure
+
 
 @dataclass
 class Decision:

@@ -79,6 +79,19 @@ class LackOfFit:
     blocks_dof: int | None = None
     blocks_p: float | None = None
 
+    def overstated_noise(self, alpha: float = 1e-3) -> list[ChannelStats]:
+        """The channels whose residuals are far smaller than the noise given: chi^2/nu below 1/2 (the noise
+        overstated by over 40 %) and chi^2 in the lower tail of its distribution (chi^2 on the channel's share
+        of nu) below alpha / (number of channels). A noise overstated (a unit slip, 0.2 m for 0.2 mm) makes
+        every test lenient: a missing effect goes unseen."""
+        level = alpha / max(len(self.channels), 1)
+        out = []
+        for c in self.channels:
+            dof = c.chi2 / c.reduced if c.reduced > 0 else float("inf")
+            if c.reduced < 0.5 and (c.chi2 == 0 or sps.chi2.cdf(c.chi2, dof) < level):
+                out.append(c)
+        return out
+
     def significant(self, alpha: float = 0.01) -> list[str]:
         """Reasons the misfit is significant (empty: consistent with the noise). Every test made (chi^2,
         block means, Ljung-Box per output channel, structure per output channel, drift per parameter) is

@@ -63,7 +63,7 @@ def test_a_remaining_discrepancy_points_at_the_exact_column():
                                                 run_failure=lambda: ""),
                             model=SimpleNamespace(layout=SimpleNamespace(globals=[]),  # no run starts off
                                                   data=SimpleNamespace(kind="steady")),
-                            lof=SimpleNamespace(significant=lambda: ["chi^2/nu = 2.26 (p = 0)"]))
+                            lof=SimpleNamespace(significant=lambda: ["chi^2/nu = 2.26 (p = 0)"], overstated_noise=list))
     cal = SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[],
                           exp=SimpleNamespace(exact_columns=[("cmd", "cmd.values")]))
     lines, unexplained = verdict(cal)

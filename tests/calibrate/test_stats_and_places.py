@@ -178,7 +178,7 @@ def test_a_final_fit_that_did_not_converge_is_in_the_verdict():
     from blocks.calibrate.run import verdict
 
     final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60, failed_rows=0, n=10, run_failure=lambda: ""),
-                            lof=SimpleNamespace(significant=lambda: []),
+                            lof=SimpleNamespace(significant=lambda: [], overstated_noise=list),
                             model=SimpleNamespace(layout=SimpleNamespace(globals=[])))
     lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
     assert lines[0] == "the final fit stopped at its limit of 60 evaluations before converging: its values may " \
@@ -206,7 +206,7 @@ def test_a_parameter_the_data_do_not_fix_is_named_in_the_verdict():
         layout=SimpleNamespace(globals=[Free("a", 0.0, -10, 10, 1e-6, "1"), Free("b", 0.5, -10, 10, 1e-6, "1")]))
     res = fit(model, np.array([0.0, 0.5]), np.array([True, True]))
     assert np.isfinite(res.se[0]) and np.isinf(res.se[1])
-    final = SimpleNamespace(fit=res, model=model, lof=SimpleNamespace(significant=lambda: []))
+    final = SimpleNamespace(fit=res, model=model, lof=SimpleNamespace(significant=lambda: [], overstated_noise=list))
     lines, _ = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[]))
     assert lines == ["not identifiable from these data: b (the data do not fix it: an infinite standard error; the "
                      "value reported is wherever the fit left it, and a fit 'to the noise' says nothing about it)",
@@ -224,7 +224,8 @@ def test_a_gross_misfit_asks_to_check_the_experiment_before_the_effects(reduced)
 
     final = SimpleNamespace(fit=SimpleNamespace(converged=True, inflation=reduced, failed_rows=0, n=63,
                                                 run_failure=lambda: ""),
-                            lof=SimpleNamespace(significant=lambda: [f"chi^2/nu = {reduced:.3g}"]),
+                            lof=SimpleNamespace(significant=lambda: [f"chi^2/nu = {reduced:.3g}"],
+                                                overstated_noise=list),
                             model=SimpleNamespace(layout=SimpleNamespace(globals=[]),
                                                   data=SimpleNamespace(kind="steady")))
     cal = SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], exp=SimpleNamespace(exact_columns=[]),
@@ -264,7 +265,8 @@ def test_failed_runs_are_named_in_the_verdict_not_read_as_a_gross_misfit():
         layout=SimpleNamespace(globals=[Free("a", 0.0, -10, 10, 1e-6, "1")]))
     res = fit(model, np.array([0.0]), np.array([True]))
     assert res.chi2 / 9 > 1e5 and res.inflation < 3
-    final = SimpleNamespace(fit=res, model=model, lof=SimpleNamespace(significant=lambda: ["chi^2/nu = 1.1e+05"]))
+    final = SimpleNamespace(fit=res, model=model, lof=SimpleNamespace(significant=lambda: ["chi^2/nu = 1.1e+05"],
+                                                                       overstated_noise=list))
     lines, unexplained = verdict(SimpleNamespace(rounds=[], final=final, exchanges=[], removals=[], accepted=[],
                                                  exp=SimpleNamespace(exact_columns=[])))
     assert lines[0] == ("the final fit's runs fail: the model does not run at the fit's end (1 of 10 rows failed; "
@@ -395,3 +397,19 @@ def test_a_sensor_offset_is_shown_in_its_channels_unit():
     cal = SimpleNamespace(rounds=[], final=None, exchanges=[], removals=[], exp=exp, accepted=[
         ("sensor_offset@p1", "sensor offset", "channel p1", "offset:p1", 1.28e5, 9.3e3, "Pa")])
     assert verdict(cal)[0][0] == "found: sensor offset channel p1: offset:p1 = 1.28 +- 0.093 bar"
+
+
+def test_a_noise_far_overstated_is_named_and_a_small_or_chance_shortfall_is_not():
+    """chi^2/nu far below 1 (a noise typed as 0.2 m for 0.2 mm) makes every test lenient; it is named when
+    both large (below 1/2) and beyond chance (lower tail below 1e-3 over the channels)."""
+    from blocks.calibrate.stats import ChannelStats, LackOfFit
+
+    def channel(name, dof, reduced):
+        return ChannelStats(name, "output", int(dof), 1e-3 * np.sqrt(reduced), 1e-3, reduced * dof, reduced)
+
+    lof = LackOfFit(0.0, 0, 0, 0, 1.0, 0.5, channels=[
+        channel("x", 321, 4e-6),  # the unit slip
+        channel("pA", 1000, 0.85),  # beyond chance (3.4 sd below 1) but the noise only 8 % over: not named
+        channel("pB", 5, 0.45),  # below 1/2 by chance: chi^2_5 <= 2.25 in 19 % of cases
+        channel("q", 1000, 0.45)])
+    assert [c.name for c in lof.overstated_noise()] == ["x", "q"]

@@ -56,6 +56,7 @@ class Context:
     p_ref: float  # reference pressure noise [Pa]: the smallest pressure sigma, else 1e4
     w_ref: float  # reference speed [rad/s]: the largest measured speed, else 10
     t_span: float
+    v_ref: float = 0.1  # reference velocity [m/s]: the largest measured velocity, else 0.1 (a cylinder's)
     notes: list = field(default_factory=list)
 
     def top_components(self) -> dict:
@@ -163,9 +164,10 @@ def start_pressure(ctx: Context, net: str) -> str | float | None:
 
 
 def hydraulic_pairs(ctx: Context) -> list[tuple[str, str, str]]:
-    """(net_a, net_b, component) for each pair of top-level hydraulic nets joined by a top-level component,
-    not both held by pressure sources (a leak between them would change nothing measured)."""
-    seen, out = set(), []
+    """(net_a, net_b, components) for each pair of top-level hydraulic nets joined by a top-level component,
+    not both held by pressure sources (a leak between them would change nothing measured); components names
+    every component that joins the pair ("valve, cyl": the leak may be in any of them)."""
+    joined: dict[tuple[str, str], list[str]] = {}
     for name, comp in ctx.top_components().items():
         nets = []
         for p in comp.cls.physical_ports():
@@ -176,11 +178,9 @@ def hydraulic_pairs(ctx: Context) -> list[tuple[str, str, str]]:
         for i in range(len(nets)):
             for j in range(i + 1, len(nets)):
                 a, b = sorted((nets[i], nets[j]))
-                if (a, b) in seen or (ctx.prescribed(a) and ctx.prescribed(b)):
-                    continue
-                seen.add((a, b))
-                out.append((a, b, name))
-    return out
+                if not (ctx.prescribed(a) and ctx.prescribed(b)):
+                    joined.setdefault((a, b), []).append(name)
+    return [(a, b, ", ".join(names)) for (a, b), names in joined.items()]
 
 
 def mechanical_nets(ctx: Context, kinds=(PortKind.ROTATIONAL, PortKind.TRANSLATIONAL)) -> list[tuple[str, object]]:

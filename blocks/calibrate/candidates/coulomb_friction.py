@@ -22,7 +22,8 @@ class CoulombFriction(Candidate):
             out.append(Place(self.name, f"{self.name}@{net}", f"on {net}", f"cal_Tc_{safe(net)}",
                              "N*m" if rot else "N", 0.0, 0.0, 1e9, 0.1 if rot else 10.0,
                              (0.0, 1e4 if rot else 1e6), target={"net": net, "rot": rot},
-                             meaning="friction opposing the motion, smoothed over w_w = 0.1 rad/s",
+                             meaning="friction opposing the motion, smoothed over "
+                             + (f"w_w = {W_W:g} rad/s" if rot else f"v_w = {V_W * 1e3:g} mm/s"),
                              plot_against=ctx.first_input_of_unit("rad/s" if rot else "m/s")))
         return out
 
