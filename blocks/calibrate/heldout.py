@@ -191,11 +191,7 @@ def heldout(model: Model, res: FitResult, spec, max_nfev: int = 20, attempts: in
                 g = model.layout.globals[j]
                 if g.kind == "latent" and not read_by_its_run(model, g):
                     active[j] = False
-        f = fit(model, x0, active, train, max_nfev=max_nfev)
-        for _ in range(attempts - 1):
-            if f.converged:
-                break
-            f = fit(model, f.x, active, train, max_nfev=max_nfev)
+        f = fit_to_convergence(model, x0, active, train, max_nfev, attempts)
         if not f.converged:
             unconverged.append(name)
         sel = fold_rows & outputs & res.rows
@@ -233,12 +229,19 @@ def fit_own_values(model: Model, f: FitResult, own: list[int], rows: np.ndarray,
     refit ``f`` decides convergence, as the shared parameters are what the held-out error judges."""
     active = np.zeros(len(f.x), dtype=bool)
     active[own] = True
-    g = fit(model, f.x, active, rows, max_nfev=max_nfev)
+    return fit_to_convergence(model, f.x, active, rows, max_nfev, attempts)
+
+
+def fit_to_convergence(model: Model, x0: np.ndarray, active: np.ndarray, rows: np.ndarray, max_nfev: int,
+                       attempts: int) -> FitResult:
+    """A fit given ``max_nfev`` evaluations, continued from where it stopped while it has not converged, up
+    to ``attempts`` fits in all (the module docstring: a fold's refit cut short predicts worse than it can)."""
+    f = fit(model, x0, active, rows, max_nfev=max_nfev)
     for _ in range(attempts - 1):
-        if g.converged:
+        if f.converged:
             break
-        g = fit(model, g.x, active, rows, max_nfev=max_nfev)
-    return g
+        f = fit(model, f.x, active, rows, max_nfev=max_nfev)
+    return f
 
 
 def knot_covariance(model: Model, f: FitResult, knots: list[int]) -> np.ndarray:

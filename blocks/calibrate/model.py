@@ -421,8 +421,9 @@ class Model:
 
     def _group_values(self, x: np.ndarray, label: str) -> dict:
         """The globals of one group (or run): its latent command levels and its values of the declared
-        parameters fitted per group (``<name>[<group>]`` sets ``<name>``)."""
-        return {f.name.rsplit("[", 1)[0]: float(x[k]) for k, f in enumerate(self.layout.globals)
+        parameters fitted per group (``<name>[<group>]`` sets ``<name>``; a parameter's name holds no '[',
+        a group's label may: a run file ``run[1].csv``)."""
+        return {f.name.split("[", 1)[0]: float(x[k]) for k, f in enumerate(self.layout.globals)
                 if f.run == label and f.kind in ("latent", "declared")}
 
     def _run_signals(self, label: str, over: dict, idx: np.ndarray) -> np.ndarray:

@@ -325,7 +325,7 @@ def per_group_globals(exp: Experiment, data: Dataset) -> list[Free]:
             continue
         if len(data.groups) < 2:
             raise exp.error(("free", f.name, "per"), f"free.{f.name}.per: group: the data have one group"
-                            + (" (no grouping column)" if exp.spec.group is None else "")
+                            + (" (no grouping column, one data file)" if exp.spec.group is None else "")
                             + "; leave per: out to fit one value")
         out += [replace(f, name=f"{f.name}[{label}]", run=label, per_group=False) for label in data.groups]
     return out
@@ -561,8 +561,8 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines.append(f"exchanged: {ex.out_key} (accepted in round {ex.round}) for {ex.in_key}, which fits better "
                          f"beside the effects found after it (BIC lower by {-ex.dbic:.3g})"
                          + ("; by less than 10: ambiguous between the two" if ex.ambiguous else ""))
-    removed = [(test.key, next((a[3] for a in cal.accepted if a[0] == test.key), test.key))
-               for test in cal.removals if test.removed]
+    param_of = {place.key: place.param for place, _ in final_effects(cal)}
+    removed = [(test.key, param_of.get(test.key, test.key)) for test in cal.removals if test.removed]
     for test in cal.removals:
         if test.removed:
             lines.append(f"removed: {test.key} (accepted in round {test.round}): beside the other effects it is "
@@ -626,9 +626,9 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
 
 
 RESTART_DROP = 25.0
-"""A refit whose candidate is under 3 SE from zero but whose chi^2 is this much below the fit's (25: a
-5-sigma drop for one parameter, where a candidate under 3 SE accounts for about z^2 < 9 of it) went to a
-better minimum of the other parameters."""
+"""A refit whose chi^2 is this much below the fit's beyond what its candidate accounts for (z^2, with z from
+the SE not inflated by the misfit: a 5-sigma drop for one parameter) went to a better minimum of the other
+parameters."""
 RESTART_GAIN = 10.0
 """The fit restarted from there is kept if its chi^2 is lower by over this (the BIC margin of an effect)."""
 
@@ -659,30 +659,42 @@ def restart_if_short(cal: Calibration, k: int, stage: Stage, rnd: Round, netlist
 
 def better_start(rnd: Round):
     """The refit of the round that shows the fit it started from stopped short of its best: its candidate is
-    not significant (under 3 SE from zero) and yet its chi^2 is over RESTART_DROP below the fit's, so the
-    other parameters found a better minimum on the way (an oscillating circuit's fit started 20 % off its
-    mass can stop in a local minimum). The lowest such refit, or None."""
+    not significant (under 3 SE from zero) and yet its chi^2 is over RESTART_DROP below the fit's beyond the
+    z^2 the candidate accounts for, so the other parameters found a better minimum on the way (an
+    oscillating circuit's fit started 20 % off its mass can stop in a local minimum). z is taken from the SE
+    before the misfit inflates it (a model far from the data inflates every SE, and its candidates' drops
+    are their own). The lowest such refit, or None."""
     base = rnd.stage.fit.chi2
-    found = [rf for rf in rnd.decision.refits
-             if rf.z < Z_MIN and not rf.run_failure and rf.fit.chi2 < base - RESTART_DROP]
+    found = []
+    for rf in rnd.decision.refits:
+        if rf.run_failure or not (rf.se > 0 and np.isfinite(rf.se)) or not rf.z < Z_MIN:
+            continue
+        z_raw = rf.z * np.sqrt(rf.fit.inflation)
+        if base - rf.fit.chi2 - z_raw ** 2 > RESTART_DROP:
+            found.append(rf)
     return min(found, key=lambda rf: rf.fit.chi2, default=None)
 
 
 def refused_as_implausible(rnd: Round) -> list[str]:
     """A verdict line for each refit of the round that the data ask for (over 3 SE, BIC over 10 lower) and
-    that fits better than what the round accepted, refused only because its value lies outside the
-    candidate's plausible range: a limit of the library, not of the data, which the engineer must see."""
+    that fits better than what the round accepted, refused because its value lies outside the candidate's
+    plausible range (the held-out test is not run on a refit already refused): a limit of the library, not
+    of the data, which the engineer must see."""
     accepted = rnd.decision.accepted
     out = []
     for rf in rnd.decision.refits:
         if rf.only_implausible and (accepted is None or rf.dbic < accepted.dbic):
             place, lo_hi = rf.score.place, rf.score.place.plausible
             unit = "" if place.unit in ("", "1", "SI") else f" {place.unit}"
-            out.append(f"round {rnd.index}: {place.key} = {rf.phi:.4g} +- {rf.se:.2g}{unit} (dBIC {rf.dbic:.4g}"
+            limit = next((b for b in (place.lower, place.upper) if np.isfinite(b)
+                          and abs(rf.phi - b) <= 1e-6 * max(abs(b), abs(rf.se))), None)
+            out.append(f"round {rnd.index}: {place.key} = {rf.phi:.4g} +- {rf.se:.2g}{unit}"
+                       + (f" (at the limit of its search, {limit:g})" if limit is not None else "")
+                       + f" (dBIC {rf.dbic:.4g}"
                        + (f", better than the accepted {accepted.score.place.key}" if accepted else "")
-                       + f") was refused only as outside its plausible range [{lo_hi[0]:.3g}, {lo_hi[1]:.3g}]"
-                       f"{unit}: if such a value is possible in this machine, the effect is there and the library's "
-                       f"range is what refused it")
+                       + f") passed the fit tests and was refused as outside its plausible range [{lo_hi[0]:.3g}, "
+                       f"{lo_hi[1]:.3g}]{unit} (its held-out error was then not tested): if such a value is possible "
+                       f"in this machine, the library's range is what refused it")
     return out
 
 

@@ -80,13 +80,15 @@ class LackOfFit:
     blocks_p: float | None = None
 
     def overstated_noise(self, alpha: float = 1e-3) -> list[ChannelStats]:
-        """The channels whose residuals are far smaller than the noise given: chi^2/nu below 1/2 (the noise
-        overstated by over 40 %) and chi^2 in the lower tail of its distribution (chi^2 on the channel's share
-        of nu) below alpha / (number of channels). A noise overstated (a unit slip, 0.2 m for 0.2 mm) makes
-        every test lenient: a missing effect goes unseen."""
-        level = alpha / max(len(self.channels), 1)
+        """The output channels whose residuals are far smaller than the noise given: chi^2/nu below 1/2 (the
+        noise overstated by over 40 %) and chi^2 in the lower tail of its distribution (chi^2 on the channel's
+        share of nu) below alpha / (number of outputs). A noise overstated (a unit slip, 0.2 m for 0.2 mm)
+        makes every test lenient: a missing effect goes unseen. Not the imposed inputs: their latent true
+        values take up most of their own rows' degrees of freedom, which the share of nu does not know."""
+        outputs = [c for c in self.channels if c.role == "output"]
+        level = alpha / max(len(outputs), 1)
         out = []
-        for c in self.channels:
+        for c in outputs:
             dof = c.chi2 / c.reduced if c.reduced > 0 else float("inf")
             if c.reduced < 0.5 and (c.chi2 == 0 or sps.chi2.cdf(c.chi2, dof) < level):
                 out.append(c)

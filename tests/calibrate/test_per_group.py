@@ -83,6 +83,21 @@ def test_a_per_group_parameter_is_one_global_per_run(runs_dir):
         Model(Circuit.from_file(exp.netlist, compile=False), exp, data, exp.free)
 
 
+def test_a_run_label_with_brackets_sets_the_parameter_itself(runs_dir, tmp_path):
+    """A run is named by its file's stem, which may hold brackets (``run[1].csv``): its copy
+    ``shaft.initial[run[1]]`` still sets ``shaft.initial`` (before: 'unknown parameter shaft.initial[run',
+    every run of the model failing)."""
+    for name, to in (("a.csv", "run[1].csv"), ("b.csv", "b.csv"), ("declared.yaml", "declared.yaml")):
+        (tmp_path / to).write_text((runs_dir / name).read_text())
+    exp = load_experiment(_experiment(tmp_path, "group", data=["run[1].csv", "b.csv"]))
+    data = load_data(exp)
+    globals_ = per_group_globals(exp, data)
+    model = Model(Circuit.from_file(exp.netlist, compile=False), exp, data, globals_)
+    x = model.initial()
+    x[model.layout.index("shaft.initial[run[1]]")] = 12.5
+    assert model._group_values(x, "run[1]") == {"shaft.initial": 12.5}
+
+
 def test_each_run_starts_from_its_own_fitted_state_and_the_friction_is_found(runs_dir, tmp_path):
     shared = calibrate(_experiment(runs_dir, None), tmp_path / "shared", with_heldout=False)
     named = [line for line in shared.verdict if "starts off the data" in line]
@@ -142,7 +157,7 @@ def test_per_group_with_one_group_or_in_drift_is_refused(runs_dir, tmp_path, cap
     for name in ("a.csv", "b.csv", "declared.yaml"):
         (tmp_path / name).write_text((runs_dir / name).read_text())
     err = _refused(capsys, _experiment(tmp_path, "group", data="a.csv"))
-    assert "exp.yaml" in err and "free.shaft.initial.per: group: the data have one group (no grouping column); " \
+    assert "exp.yaml" in err and "free.shaft.initial.per: group: the data have one group (no grouping column, one data file); " \
         "leave per: out to fit one value" in err, err
     err = _refused(capsys, _experiment(tmp_path, "group", drift=["shaft.initial"]))
     assert "drift: 'shaft.initial' is fitted per group already" in err, err

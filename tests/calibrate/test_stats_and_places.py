@@ -411,5 +411,6 @@ def test_a_noise_far_overstated_is_named_and_a_small_or_chance_shortfall_is_not(
         channel("x", 321, 4e-6),  # the unit slip
         channel("pA", 1000, 0.85),  # beyond chance (3.4 sd below 1) but the noise only 8 % over: not named
         channel("pB", 5, 0.45),  # below 1/2 by chance: chi^2_5 <= 2.25 in 19 % of cases
-        channel("q", 1000, 0.45)])
+        channel("q", 1000, 0.45),
+        ChannelStats("Q", "input", 60, 3e-4, 1e-3, 0.3 * 44, 0.3)])  # latent inputs use up most of their rows
     assert [c.name for c in lof.overstated_noise()] == ["x", "q"]

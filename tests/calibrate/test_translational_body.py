@@ -76,27 +76,38 @@ def test_a_viscous_friction_on_a_cylinder_rod_is_found(tmp_path):
     assert not cal.unexplained, cal.verdict
 
 
-def _refit(key, phi, se, dbic, plausible, z=10.0):
-    place = SimpleNamespace(key=key, unit="N*s/m", plausible=(0.0, 1000.0))
-    return SimpleNamespace(score=SimpleNamespace(place=place), phi=phi, se=se, dbic=dbic,
-                           only_implausible=z > 3 and not plausible and dbic < -10)
+def _refit(key, phi, se, dbic, plausible):
+    from blocks.calibrate.selection import Refit
+
+    place = SimpleNamespace(key=key, unit="N*s/m", plausible=(0.0, 1000.0), zero=0.0, lower=0.0, upper=1e9)
+    return Refit(SimpleNamespace(place=place), None, SimpleNamespace(run_failure=lambda beyond: ""), phi, se,
+                 dbic, dbic, plausible)
 
 
 def test_a_fit_refused_only_as_implausible_is_said_in_the_verdict():
     implausible = _refit("viscous_friction@rod", 2964.0, 54.0, -3352.0, plausible=False)
     alternative = _refit("line_loss_laminar@cyl.A", 7.5e8, 1.6e7, -2898.0, plausible=True)
+    assert implausible.only_implausible and not alternative.only_implausible
     rnd = SimpleNamespace(index=1, decision=SimpleNamespace(refits=[implausible, alternative], accepted=alternative))
     (line,) = refused_as_implausible(rnd)
     assert line == ("round 1: viscous_friction@rod = 2964 +- 54 N*s/m (dBIC -3352, better than the accepted "
-                    "line_loss_laminar@cyl.A) was refused only as outside its plausible range [0, 1e+03] N*s/m: if "
-                    "such a value is possible in this machine, the effect is there and the library's range is what "
-                    "refused it")
+                    "line_loss_laminar@cyl.A) passed the fit tests and was refused as outside its plausible range "
+                    "[0, 1e+03] N*s/m (its held-out error was then not tested): if such a value is possible in this "
+                    "machine, the library's range is what refused it")
     worse = _refit("viscous_friction@rod", 2964.0, 54.0, -2000.0, plausible=False)  # the accepted one fits better
     rnd = SimpleNamespace(index=1, decision=SimpleNamespace(refits=[worse, alternative], accepted=alternative))
     assert refused_as_implausible(rnd) == []
     rnd = SimpleNamespace(index=2, decision=SimpleNamespace(refits=[worse], accepted=None))
     assert refused_as_implausible(rnd)[0].startswith("round 2: viscous_friction@rod = 2964 +- 54 N*s/m (dBIC -2000) "
-                                                     "was refused only")
+                                                     "passed the fit tests")
+    at_limit = _refit("viscous_friction@rod", 1e9, 1e7, -2000.0, plausible=False)
+    rnd = SimpleNamespace(index=2, decision=SimpleNamespace(refits=[at_limit], accepted=None))
+    assert refused_as_implausible(rnd)[0].startswith("round 2: viscous_friction@rod = 1e+09 +- 1e+07 N*s/m (at the "
+                                                     "limit of its search, 1e+09) (dBIC -2000)")
+    weak = _refit("viscous_friction@rod", 2964.0, 1500.0, -2000.0, plausible=False)  # under 3 SE: not asked for
+    assert not weak.only_implausible
+    rnd = SimpleNamespace(index=2, decision=SimpleNamespace(refits=[weak], accepted=None))
+    assert refused_as_implausible(rnd) == []
 
 
 @pytest.mark.parametrize("rot, speeds, bound", [(True, {}, 1e3), (True, {"w": 50.0}, 200.0),
@@ -116,18 +127,24 @@ def test_viscous_friction_is_plausible_up_to_a_coulomb_friction_at_the_reference
 
 def test_what_an_ambiguity_changes_says_when_the_effect_it_moves_was_removed_later():
     """Before: 'the choice moves cal_Tc_rod = ...' stood in the verdict after the elimination check had
-    taken cal_Tc_rod out, with nothing to say so."""
+    taken cal_Tc_rod out, with nothing to say so. The state verdict() sees: round 1 accepted a Coulomb
+    friction, round 2 a viscous one (ambiguous with a line loss, the choice moving the Coulomb friction),
+    and the elimination check removed the Coulomb friction, which is then no longer in cal.accepted."""
     from blocks.calibrate.run import verdict
 
-    accepted = SimpleNamespace(score=SimpleNamespace(place=SimpleNamespace(key="viscous_friction@rod")))
-    rnd = SimpleNamespace(index=1, stopped=None, decision=SimpleNamespace(
-        refits=[], accepted=accepted, ambiguous=["line_loss_laminar@cyl.A"], separation=[],
-        depends=["viscous_friction@rod vs line_loss_laminar@cyl.A: the choice moves cal_Tc_rod = 21 against 3 N"]))
+    def round_(index, key, param, **decision):
+        accepted = SimpleNamespace(score=SimpleNamespace(place=SimpleNamespace(key=key, param=param)))
+        fields = dict(refits=[], accepted=accepted, ambiguous=[], separation=[], depends=[])
+        return SimpleNamespace(index=index, stopped=None, decision=SimpleNamespace(**{**fields, **decision}))
+
+    rounds = [round_(1, "coulomb_friction@rod", "cal_Tc_rod"),
+              round_(2, "viscous_friction@rod", "cal_b_rod", ambiguous=["line_loss_laminar@cyl.A"],
+                     depends=["viscous_friction@rod vs line_loss_laminar@cyl.A: the choice moves cal_Tc_rod = 21 "
+                              "against 3 N"])]
     cal = SimpleNamespace(
-        accepted=[("viscous_friction@rod", "viscous friction", "on rod", "cal_b_rod", 800.0, 50.0, "N*s/m"),
-                  ("coulomb_friction@rod", "Coulomb friction", "on rod", "cal_Tc_rod", 21.0, 9.0, "N")],
-        exchanges=[], removals=[SimpleNamespace(key="coulomb_friction@rod", removed=True, round=2, z=2.3, dbic=4.0)],
-        rounds=[rnd], held_levels=[], final=None, exp=SimpleNamespace(channels=[]))
+        accepted=[("viscous_friction@rod", "viscous friction", "on rod", "cal_b_rod", 800.0, 50.0, "N*s/m")],
+        exchanges=[], removals=[SimpleNamespace(key="coulomb_friction@rod", removed=True, round=1, z=2.3, dbic=4.0)],
+        rounds=rounds, held_levels=[], final=None, exp=SimpleNamespace(channels=[]))
     lines, _ = verdict(cal)
     (changes,) = [line for line in lines if "what the choice changes" in line]
     assert changes.endswith("21 against 3 N (cal_Tc_rod, of coulomb_friction@rod, was removed after this round)")

@@ -55,3 +55,10 @@ def test_the_block_alone_and_its_empty_stop():
     stop = -STOP_FRACTION * V0 * (P0 - 30e5) / (P0 + P_ATM)
     assert abs(Accumulator.derivatives(30e5, stop, **values)[1]) < 1e-6 * G_IN * P0
     assert Accumulator.derivatives(30e5, 0.0, **values)[1] < 0 < Accumulator.derivatives(30e5, 2 * stop, **values)[1]
+
+
+def test_a_precharge_with_no_absolute_pressure_is_refused():
+    """p0 = p_atm = 0 leaves no gas: the block would swallow any oil at 0 Pa, past V0."""
+    values = {"V0": V0, "p0": 0.0, "kappa": 1.4, "G_in": G_IN, "p_atm": 0.0}
+    assert "p0 + p_atm must be positive" in Accumulator.check_values(values)
+    assert Accumulator.check_values({**values, "p_atm": P_ATM}) is None

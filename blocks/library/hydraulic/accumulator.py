@@ -20,8 +20,9 @@ class Accumulator(Block):
 
     The gas follows the polytropic law in absolute pressures (kappa = 1 isothermal, slow cycles; 1.4
     adiabatic, fast ones). Below its precharge the accumulator is empty: the gas holds the bladder on
-    its stop, and the stop (over 0.1 % of V0 below empty) takes the gas pressure down fast enough that no
-    oil leaves an empty accumulator. G_in is the port's conductance (its inlet valve and neck): small
+    its stop, and the stop takes the gas pressure from p0 down to absolute zero over 0.1 % of V0 below
+    empty, so an empty accumulator gives up at most that much more oil (a stiff stop rather than a switch
+    the solver would have to find). G_in is the port's conductance (its inlet valve and neck): small
     enough to be the accumulator's own lag, large enough that the oil pressure follows the gas.
     An accumulator starting charged is given its oil volume: ``initial: {V_oil: ...}``, at pressure p
     V_oil = V0*(1 - ((p0 + p_atm)/(p + p_atm))^(1/kappa)).
@@ -38,6 +39,12 @@ class Accumulator(Block):
         Param("p_atm", "Pa", 101325.0, 0.0, 1e6, "ambient pressure: gauge to absolute for the gas law"),
     )
     states = (State("V_oil", "m^3", 0.0, 1e-3, "oil volume in the accumulator (0: empty)"),)
+
+    @classmethod
+    def check_values(cls, values: dict) -> str | None:
+        if values["p0"] + values["p_atm"] <= 0.0:
+            return "p0 + p_atm must be positive: the gas law needs an absolute precharge pressure"
+        return None
 
     @staticmethod
     def derivatives(port, V_oil, V0, p0, kappa, G_in, p_atm):

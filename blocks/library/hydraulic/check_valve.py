@@ -1,7 +1,7 @@
 """Check (non-return) valve."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import opening_range_problem, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -33,11 +33,7 @@ class CheckValve(Block):
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
-        """The opening needs a range: p_open above p_crack (at or below it the area would jump)."""
-        if values["p_open"] <= values["p_crack"]:
-            return (f"p_open = {values['p_open'] / 1e5:g} bar must be above p_crack = {values['p_crack'] / 1e5:g} bar "
-                    f"(the valve opens over p_crack ... p_open)")
-        return None
+        return opening_range_problem(values, "p_crack")
 
     @staticmethod
     def derivatives(a, b, A_max, p_crack, p_open, A_leak, Cd, dp_t, rho):

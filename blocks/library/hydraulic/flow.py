@@ -28,3 +28,12 @@ def smooth_step(x, x0, width):
     if s >= 1.0:
         return 1.0
     return s * s * (3.0 - 2.0 * s)
+
+
+def opening_range_problem(values: dict, setting: str) -> str | None:
+    """What is wrong with a valve's opening range (build time, plain Python): the full-open pressure
+    p_open must be above the cracking one (``setting``), or the area would jump from closed to open."""
+    if values["p_open"] <= values[setting]:
+        return (f"p_open = {values['p_open'] / 1e5:g} bar must be above {setting} = {values[setting] / 1e5:g} bar "
+                f"(the valve opens over {setting} ... p_open)")
+    return None

@@ -1,7 +1,7 @@
 """Direct-acting pressure relief valve."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import opening_range_problem, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -32,11 +32,7 @@ class ReliefValve(Block):
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
-        """The opening needs a range: p_open above p_set (at or below it the area would jump)."""
-        if values["p_open"] <= values["p_set"]:
-            return (f"p_open = {values['p_open'] / 1e5:g} bar must be above p_set = {values['p_set'] / 1e5:g} bar "
-                    f"(the valve opens over p_set ... p_open)")
-        return None
+        return opening_range_problem(values, "p_set")
 
     @staticmethod
     def derivatives(a, b, p_set, p_open, A_max, A_leak, Cd, dp_t, rho):
