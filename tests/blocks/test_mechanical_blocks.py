@@ -54,9 +54,16 @@ def test_mechanical_block_registered(type_name):
 # ---------------------------------------------------------------- storage
 def test_inertia_and_mass_store_and_apply_nothing():
     assert named(Inertia, Inertia.derivatives(J=0.085)) == {"tau_port": 0.0, "J_port": 0.085}
-    assert named(Mass, Mass.derivatives(m=7500.0)) == {"f_port": 0.0, "m_port": 7500.0}
+    assert named(Mass, Mass.derivatives(m=7500.0, g_x=0.0)) == {"f_port": 0.0, "m_port": 7500.0}
     assert Inertia.port("port").kind is PortKind.ROTATIONAL and Inertia.port("port").stores
     assert Mass.port("port").kind is PortKind.TRANSLATIONAL and Mass.port("port").stores
+
+
+def test_a_mass_applies_its_weight_along_the_motion():
+    """f = m*g_x: a 2 t load lifted by a motion with v > 0 up (g_x = -9.81 m/s^2) pulls down with 19.62 kN;
+    the default g_x = 0 is a horizontal motion."""
+    assert named(Mass, Mass.derivatives(m=2000.0, g_x=-9.81)) == {"f_port": pytest.approx(-19620.0), "m_port": 2000.0}
+    assert Mass.param("g_x").default == 0.0
 
 
 # ---------------------------------------------------------------- friction
@@ -163,7 +170,7 @@ def test_angle_and_position_sensors_integrate():
 
 # ---------------------------------------------------------------- numba: compiled == pure Python
 NUMBA_CASES = {
-    Inertia: dict(J=0.1), Mass: dict(m=100.0),
+    Inertia: dict(J=0.1), Mass: dict(m=100.0, g_x=-9.81),
     RotDamper: dict(port=3.0, b=0.01), TransDamper: dict(port=-0.2, b=50.0),
     RotFriction: dict(port=0.03, Tc=10.0, b=0.01, w_w=0.1), TransFriction: dict(port=-1e-4, Fc=50.0, b=5.0, v_w=1e-3),
     Gear: dict(n=39.0), RackPinion: dict(r=0.075),
