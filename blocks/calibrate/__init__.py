@@ -13,7 +13,8 @@ One straight line, each step a small module:
 - :mod:`~blocks.calibrate.candidates`: the library of candidate effects, one module each;
 - :mod:`~blocks.calibrate.patch`: netlist edits written as new files;
 - :mod:`~blocks.calibrate.screening`: the score test of every candidate at every place;
-- :mod:`~blocks.calibrate.selection`: refits, BIC ranking, acceptance, ambiguity;
+- :mod:`~blocks.calibrate.selection`: refits, BIC ranking, acceptance, ambiguity, a fit's local minimum;
 - :mod:`~blocks.calibrate.run`: the rounds (fit, trace, augment; at most three traces);
+- :mod:`~blocks.calibrate.verdict`: what the rounds found, in words;
 - :mod:`~blocks.calibrate.report`: markdown, JSON and plots.
 """

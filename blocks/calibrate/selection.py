@@ -369,3 +369,25 @@ def _extrapolate(model: Model, x: np.ndarray, point: int):
     j = model.layout.latent_index(point, 0)
     xp[j] *= 1.5
     return model._steady_point(point, xp, model._net_overrides(xp))
+
+
+RESTART_DROP = 25.0
+"""A refit whose chi^2 is this much below the fit's beyond what its candidate accounts for (z^2, with z from
+the SE not inflated by the misfit: a 5-sigma drop for one parameter) went to a better minimum of the other
+parameters."""
+
+def better_start(refits: list[Refit], base_chi2: float) -> Refit | None:
+    """The refit of a round (``refits``, of a fit with ``base_chi2``) that shows that fit stopped short of its best: its candidate is
+    not significant (under 3 SE from zero) and yet its chi^2 is over RESTART_DROP below the fit's beyond the
+    z^2 the candidate accounts for, so the other parameters found a better minimum on the way (an
+    oscillating circuit's fit started 20 % off its mass can stop in a local minimum). z is taken from the SE
+    before the misfit inflates it (a model far from the data inflates every SE, and its candidates' drops
+    are their own). The lowest such refit, or None."""
+    found = []
+    for rf in refits:
+        if rf.run_failure or not (rf.se > 0 and np.isfinite(rf.se)) or not rf.z < Z_MIN:
+            continue
+        z_raw = rf.z * np.sqrt(rf.fit.inflation)
+        if base_chi2 - rf.fit.chi2 - z_raw ** 2 > RESTART_DROP:
+            found.append(rf)
+    return min(found, key=lambda rf: rf.fit.chi2, default=None)

@@ -21,7 +21,8 @@ from blocks.calibrate.data import load_data
 from blocks.calibrate.experiment import load_experiment
 from blocks.calibrate.model import Model
 from blocks.calibrate.report import write
-from blocks.calibrate.run import calibrate, latent_globals, verdict
+from blocks.calibrate.run import calibrate, latent_globals
+from blocks.calibrate.verdict import verdict
 
 EXPERIMENTS = Path(__file__).resolve().parents[2] / "netlists" / "experiments"
 

@@ -161,7 +161,7 @@ def test_an_effect_the_final_fit_drives_to_zero_is_superseded_not_found():
     1e-28 +- 2.8e-12: the verdict must not call it found."""
     from types import SimpleNamespace
 
-    from blocks.calibrate.run import verdict
+    from blocks.calibrate.verdict import verdict
 
     cal = SimpleNamespace(rounds=[], final=None, exchanges=[], removals=[], exp=None, accepted=[
         ("leakage@P1-T", "internal leakage", "P1 to T", "cal_gl_P1_T", 1e-28, 2.8e-12, "m^3/(s*Pa)"),
@@ -175,7 +175,7 @@ def test_an_effect_the_final_fit_drives_to_zero_is_superseded_not_found():
 def test_a_final_fit_that_did_not_converge_is_in_the_verdict():
     from types import SimpleNamespace
 
-    from blocks.calibrate.run import verdict
+    from blocks.calibrate.verdict import verdict
 
     final = SimpleNamespace(fit=SimpleNamespace(converged=False, nfev=60, failed_rows=0, n=10, run_failure=lambda: ""),
                             lof=SimpleNamespace(significant=lambda: [], overstated_noise=list),
@@ -195,7 +195,7 @@ def test_a_parameter_the_data_do_not_fix_is_named_in_the_verdict():
 
     from blocks.calibrate.experiment import Free
     from blocks.calibrate.fit import fit
-    from blocks.calibrate.run import verdict
+    from blocks.calibrate.verdict import verdict
 
     t, y = np.zeros(3), np.array([0.9, 1.1, 1.0])
     model = SimpleNamespace(
@@ -220,7 +220,7 @@ def test_a_gross_misfit_asks_to_check_the_experiment_before_the_effects(reduced)
     as large as the thesis's declared model's (29.5) gets no such line."""
     from types import SimpleNamespace
 
-    from blocks.calibrate.run import verdict
+    from blocks.calibrate.verdict import verdict
 
     final = SimpleNamespace(fit=SimpleNamespace(converged=True, inflation=reduced, failed_rows=0, n=63,
                                                 run_failure=lambda: ""),
@@ -249,7 +249,7 @@ def test_failed_runs_are_named_in_the_verdict_not_read_as_a_gross_misfit():
     from blocks.calibrate.experiment import Free
     from blocks.calibrate.fit import fit
     from blocks.calibrate.model import FAILED_RESIDUAL
-    from blocks.calibrate.run import verdict
+    from blocks.calibrate.verdict import verdict
 
     t = np.linspace(0.0, 1.0, 9)
     y = 1.0 + np.random.default_rng(3).normal(size=9)
@@ -385,7 +385,7 @@ def test_a_sensor_offset_is_shown_in_its_channels_unit():
     from types import SimpleNamespace
 
     from blocks.calibrate.candidates.sensor_offset import shown
-    from blocks.calibrate.run import verdict
+    from blocks.calibrate.verdict import verdict
 
     exp = SimpleNamespace(channels=[SimpleNamespace(name="p1", unit="bar"), SimpleNamespace(name="Q", unit="l/min"),
                                     SimpleNamespace(name="cmd", unit="1")])

@@ -18,7 +18,8 @@ import yaml
 import cli
 from blocks.calibrate.data import load_data
 from blocks.calibrate.experiment import load_experiment
-from blocks.calibrate.run import calibrate, latent_globals, verdict
+from blocks.calibrate.run import calibrate, latent_globals
+from blocks.calibrate.verdict import verdict
 
 EXPERIMENTS = Path(__file__).resolve().parents[2] / "netlists" / "experiments"
 NETLIST = EXPERIMENTS / "circuits" / "drive_line_open.yaml"

@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 import yaml
 
-from blocks.calibrate.run import calibrate, refused_as_implausible
+from blocks.calibrate.run import calibrate
+from blocks.calibrate.verdict import refused_as_implausible
 from blocks.circuit import Circuit
 
 CYLINDER = {
@@ -130,7 +131,7 @@ def test_what_an_ambiguity_changes_says_when_the_effect_it_moves_was_removed_lat
     taken cal_Tc_rod out, with nothing to say so. The state verdict() sees: round 1 accepted a Coulomb
     friction, round 2 a viscous one (ambiguous with a line loss, the choice moving the Coulomb friction),
     and the elimination check removed the Coulomb friction, which is then no longer in cal.accepted."""
-    from blocks.calibrate.run import verdict
+    from blocks.calibrate.verdict import verdict
 
     def round_(index, key, param, **decision):
         accepted = SimpleNamespace(score=SimpleNamespace(place=SimpleNamespace(key=key, param=param)))
