@@ -248,6 +248,8 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
                        else f"unknown key '{shown_key(path[-1])}'" if path else "unknown key")
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
+        elif first["type"] == "literal_error":  # pydantic says "Input should be ..."
+            message = f"'{first.get('input')}' is not known; allowed: {first['ctx']['expected']}"
         elif first["type"] == "too_short" and isinstance(first.get("input"), list):
             message = f"an empty list: give at least {first['ctx']['min_length']} entry"
         elif first["type"] == "model_type":  # pydantic names its class ("a valid dictionary or instance of X")
