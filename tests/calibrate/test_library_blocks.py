@@ -13,6 +13,7 @@ from blocks.library.hydraulic.flow import turbulent_flow
 from blocks.library.hydraulic.line_loss import LineLoss
 from blocks.library.hydraulic.spool_relief_valve import SpoolReliefValve, rounded_unit
 from blocks.library.mechanical.stribeck_friction import StribeckFriction
+from blocks.library.mechanical.trans_stribeck_friction import TransStribeckFriction
 from blocks.library.signal.pade_delay import PadeDelay
 
 BAR = 1e5
@@ -100,6 +101,20 @@ def test_stribeck_friction_closed_form():
     # near standstill (|w| >> w_w, << w_s) the breakaway torque Tc + dTs; far beyond w_s only Tc + b*w
     assert StribeckFriction.derivatives(port=0.2, **p)[0] == pytest.approx(-(2.0 + 3.0 * math.exp(-0.0016) + 0.02), rel=1e-9)
     assert StribeckFriction.derivatives(port=40.0, **p)[0] == pytest.approx(-(2.0 + 4.0), rel=1e-9)
+
+
+def test_translational_stribeck_friction_is_the_rotational_law_in_force_and_velocity():
+    """f = -((Fc + dFs*exp(-(v/v_s)^2))*tanh(v/v_w) + b*v): the same numbers through both blocks."""
+    p = dict(Fc=200.0, dFs=800.0, v_s=5e-3, b=50.0, v_w=1e-4)
+    for v in (0.0, 2e-5, 1e-3, 5e-3, 0.1, -0.04):
+        expected = -((200.0 + 800.0 * math.exp(-(v / 5e-3) ** 2)) * math.tanh(v / 1e-4) + 50.0 * v)
+        assert TransStribeckFriction.derivatives(port=v, **p)[0] == pytest.approx(expected, rel=1e-14, abs=1e-12)
+        rot = StribeckFriction.derivatives(port=v, Tc=200.0, dTs=800.0, w_s=5e-3, b=50.0, w_w=1e-4)[0]
+        assert TransStribeckFriction.derivatives(port=v, **p)[0] == rot
+    # at 1 mm/s (>> v_w, << v_s) nearly the breakaway force Fc + dFs; at 0.1 m/s only Fc + b*v
+    assert TransStribeckFriction.derivatives(port=1e-3, **p)[0] == pytest.approx(-(200.0 + 800.0 * math.exp(-0.04)
+                                                                                   + 0.05), rel=1e-8)  # tanh(10)
+    assert TransStribeckFriction.derivatives(port=0.1, **p)[0] == pytest.approx(-(200.0 + 5.0), rel=1e-9)
 
 
 # ---------------------------------------------------------------- pade_delay

@@ -16,6 +16,7 @@ from blocks.library.mechanical import (  # noqa: F401
     torque_source,
     trans_damper,
     trans_friction,
+    trans_stribeck_friction,
     velocity_sensor,
     velocity_source,
 )
