@@ -465,3 +465,19 @@ def test_a_failure_after_progress_starts_on_its_own_line(capsys):
     show(1.0, 4.0)  # a finished progress line ends itself: no blank line after it
     cli._say("vphs: done")
     assert capsys.readouterr().err.endswith(" s left\nvphs: done\n")
+
+
+def test_a_subsystem_part_alone_says_that_its_exposed_nets_are_completed_by_its_user(capsys):
+    """Before: `vphs validate` on a part (a file with ports:) said only "hydraulic net 'P' has no volume",
+    and the advice to give it a volume is wrong there: the netlist that uses the part connects P."""
+    part = Path(__file__).resolve().parents[2] / "netlists" / "lga" / "parts" / "slewing.yaml"
+    for command in (["validate", str(part)], ["run", str(part), "-q"]):
+        assert cli.main(command) == 2
+        err = capsys.readouterr().err.strip()
+        assert "hydraulic net 'P' has no volume" in err and err.endswith(
+            "(this file is a subsystem part: it exposes P, T, shaft, x under ports:, which the netlist using it "
+            "connects; validate that netlist)"), err
+    # a netlist that exposes nothing keeps the error's own words
+    assert cli.main(["validate", str(CASES / "hydraulic_no_volume.yaml")]) == 2
+    err = capsys.readouterr().err
+    assert "has no volume" in err and "subsystem part" not in err
