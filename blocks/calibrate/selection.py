@@ -376,10 +376,11 @@ RESTART_DROP = 25.0
 the SE not inflated by the misfit: a 5-sigma drop for one parameter) went to a better minimum of the other
 parameters."""
 
+
 def better_start(refits: list[Refit], base_chi2: float) -> Refit | None:
-    """The refit of a round (``refits``, of a fit with ``base_chi2``) that shows that fit stopped short of its best: its candidate is
-    not significant (under 3 SE from zero) and yet its chi^2 is over RESTART_DROP below the fit's beyond the
-    z^2 the candidate accounts for, so the other parameters found a better minimum on the way (an
+    """The refit of a round (``refits``, of a fit with ``base_chi2``) that shows that fit stopped short of its
+    best: its candidate is not significant (under 3 SE from zero) and yet its chi^2 is over RESTART_DROP below
+    the fit's beyond the z^2 the candidate accounts for, so the other parameters found a better minimum on the way (an
     oscillating circuit's fit started 20 % off its mass can stop in a local minimum). z is taken from the SE
     before the misfit inflates it (a model far from the data inflates every SE, and its candidates' drops
     are their own). The lowest such refit, or None."""
