@@ -192,8 +192,8 @@ def write_calibrated(cal: Calibration) -> Path | None:
     profile through a recorded trace's knots): run, it reproduces the final fit. Steady points and runs of
     several keep the netlist's own inputs and per-group values (the experiment's differ point by point, run
     by run), and so do parameters fitted per group (named in the header). Sensor corrections act on the data,
-    not the netlist. A fitted parameter that is neither a
-    netlist parameter nor a component's (one inside a subsystem) is listed in the header as not set."""
+    not the netlist. A fitted parameter that is neither a netlist parameter nor a component's (one inside a
+    subsystem) is listed in the header as not set."""
     if cal.final is None:
         return None
     doc = NetlistDoc.read(cal.final.netlist)
@@ -535,8 +535,9 @@ RESTART_GAIN = 10.0
 def restart_if_short(cal: Calibration, k: int, stage: Stage, rnd: Round, netlist: Path, globals_: list[Free],
                      with_heldout: bool, say) -> tuple[Stage, Round]:
     """The round's fit and trace, or, when a refit shows that the fit stopped short of its best
-    (:func:`blocks.calibrate.selection.better_start`), the fit restarted from that refit's values (without its candidate) and the round
-    traced again from it, if that lowers chi^2 by over RESTART_GAIN; said in the verdict."""
+    (:func:`blocks.calibrate.selection.better_start`), the fit restarted from that refit's values (without
+    its candidate) and the round traced again from it, if that lowers chi^2 by over RESTART_GAIN; said in the
+    verdict."""
     better = better_start(rnd.decision.refits, stage.fit.chi2)
     if better is None:
         return stage, rnd
