@@ -240,7 +240,8 @@ class Block:
     @classmethod
     def check_values(cls, values: dict) -> str | None:
         """Checks across parameters (a table's lengths, a lower limit below the upper): None if the
-        values fit together, else what is wrong. Runs when parameter values are evaluated, not per step."""
+        values fit together, else what is wrong. ``values`` holds each parameter by name and each scalar
+        state's start as ``initial.<state>``. Runs when parameter values are evaluated, not per step."""
         return None
 
     @classmethod

@@ -97,7 +97,10 @@ class Circuit:
                 entry = self.flat.parameters.entries[f"{net}.volume"]
                 raise entry.error(f"net '{net}': volume must be positive, got {values[f'{net}.volume']:g} m^3")
         for comp_name, comp in self.flat.components.items():
-            problem = comp.cls.check_values({p.name: values[f"{comp_name}.{p.name}"] for p in comp.cls.params})
+            checked = {p.name: values[f"{comp_name}.{p.name}"] for p in comp.cls.params}
+            checked.update({f"initial.{s.name}": values.get(f"{comp_name}.initial.{s.name}", s.start)
+                            for s in comp.cls.states if s.size is None})
+            problem = comp.cls.check_values(checked)
             if problem:
                 raise comp.source.error(comp.path + ("params",), f"{comp_name}: {problem}")
         x0 = np.zeros(st.n_states)

@@ -393,6 +393,23 @@ def file_format() -> str:
 
 
 # ---------------------------------------------------------------- the whole reference
+def experiment_format() -> str:
+    """The calibration experiment file (``vphs calibrate``), from the annotated example that
+    blocks.calibrate.experiment's docstring keeps beside the code that reads it."""
+    from blocks.calibrate import experiment
+
+    doc = inspect.getdoc(experiment) or ""
+    block = doc.split("::", 1)[1].split("\n\nErrors name", 1)[0] if "::" in doc else ""
+    return "\n".join([
+        "## The calibration experiment file", "",
+        "`vphs calibrate EXPERIMENT` reads a YAML file that names the netlist, the measured data and what to "
+        "fit; the README's Calibration section says what the command does with it. Paths are relative to the "
+        "file; every value may carry a unit of its parameter's or channel's dimension. Every key, annotated "
+        "(the held-out schemes are `leave_one_group_out`, `leave_one_experiment_out`: each data file in turn, "
+        "`kfold_experiments` and `kfold`):", "",
+        "```yaml", inspect.cleandoc(block), "```", ""])
+
+
 def reference_text() -> str:
     """The whole netlist reference (Markdown): contents, the file format, every registered block."""
     from blocks import registry
@@ -402,7 +419,7 @@ def reference_text() -> str:
     order = [title for _, title in LIBRARIES] + ["Other blocks"]
     for cls in types.values():
         grouped.setdefault(library_of(cls), []).append(cls)
-    fmt = file_format()
+    fmt = file_format() + "\n" + experiment_format()
 
     toc = ["## Contents", ""]
     for line in fmt.splitlines():

@@ -20,8 +20,9 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
       "1": {p_set: "30 bar"}
     group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group
     free:                                # the declared free parameters, values in any unit of their dimension
-      k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}
-      shaft.initial: {initial: "0 rpm", per: group}   # one value per group (a time series: per run)
+      k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}   # step: the finite-difference step
+      shaft.initial: {initial: "0 rpm", per: group}   # one value per group (a time series: per run); a start
+                                                      # per group: initial: {a: "0 rpm", b: "600 rpm"}
     drift: [k_s]                         # refitted per group (or run), should stay constant
     heldout: {scheme: leave_one_group_out}      # or {scheme: kfold, k: 5}, leave_one_experiment_out (each
                                                 # data file in turn) or {scheme: kfold_experiments, k: 3}
@@ -29,8 +30,9 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
                                                 # not settled at t_end may be lengthened to (8 x t_end);
                                                 # method: equilibrium (default: a point's equilibrium by
                                                 # Newton, started from its first settling run) or settle
-    trace: {rounds: 3, top: 3, exclude: [extra_volume]}
+    trace: {rounds: 3, top: 3, exclude: [extra_volume]}   # or only: [flow_force, leakage]; top: refits a round
     solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
+    corrections: {p1: {offset: "0.3 bar", gain: 0.01}}   # sensor corrections held fixed (a relative gain)
 
 Errors name the file, line and column (the style of :mod:`blocks.netlist.flatten`). Every measured column,
 imposed or compared, and its noise are in a unit of the dimension the netlist gives the channel
@@ -91,7 +93,7 @@ class ChannelSpec(_Strict):
 
 
 class FreeSpec(_Strict):
-    initial: Value | None = None
+    initial: Union[Value, dict[Union[str, int], Value], None] = None  # per: group may start each group apart
     lower: Value | None = None
     upper: Value | None = None
     step: Value | None = None
@@ -190,6 +192,7 @@ class Free:
     run: str | None = None  # a latent level or knot of one run of a grouped time series (name "<...>[<run>]"),
     # or a declared parameter's value in one group (per: group; name "<parameter>[<group>]")
     per_group: bool = False  # a declared parameter fitted per group (per: group), before per_group_globals
+    starts: dict = field(default_factory=dict)  # per: group: a group's own start (SI), else ``initial``
 
 
 @dataclass
@@ -405,7 +408,13 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                                       f"(free) or set, not both")
         entry = entries[name]
         values = circuit.flat.parameters.evaluate({})
-        start = values[name] if fs.initial is None else si(name, fs.initial, path + ("initial",))
+        starts = {}
+        if isinstance(fs.initial, dict):  # a start per group
+            if fs.per != "group":
+                raise located.error(path + ("initial",), f"free.{name}.initial: a start per group (a mapping) "
+                                    f"needs per: group")
+            starts = {str(g): si(name, v, path + ("initial", g)) for g, v in fs.initial.items()}
+        start = values[name] if fs.initial is None or starts else si(name, fs.initial, path + ("initial",))
         if isinstance(start, tuple):
             raise located.error(path, f"free.{name}: an array parameter cannot be free")
         lower = -np.inf if fs.lower is None else si(name, fs.lower, path + ("lower",))
@@ -415,7 +424,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 lower = max(lower, entry.bounds.lower)
             if entry.bounds.upper is not None:
                 upper = min(upper, entry.bounds.upper)
-        unit = display_unit(entry)
+        unit = display_unit(entry, fs)
         shown = (lambda v: f"{v / display_factor(unit):g} {unit}".strip()) if unit else (lambda v: f"{v:g} (SI)")
         if not lower < upper:
             raise located.error(path, f"free.{name}: the lower bound {shown(lower)} is not below the upper "
@@ -423,12 +432,14 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                                                      if entry.bounds is not None else "")
                                 + ("; a parameter held at one value is set under overrides, not free"
                                    if lower == upper else ""))
-        if not lower <= start <= upper:
-            raise located.error(path, f"free.{name}: the start value {shown(start)} is outside "
-                                      f"[{shown(lower)}, {shown(upper)}]")
+        for group, value in [(None, start)] + list(starts.items()):
+            if not lower <= value <= upper:
+                raise located.error(path + (("initial", group) if group is not None else ()),
+                                    f"free.{name}" + (f".initial.{group}" if group is not None else "")
+                                    + f": the start value {shown(value)} is outside [{shown(lower)}, {shown(upper)}]")
         step = si(name, fs.step, path + ("step",)) if fs.step is not None else default_step(start, lower, upper)
         free.append(Free(name, float(start), float(lower), float(upper), float(step), unit,
-                         per_group=fs.per == "group"))
+                         per_group=fs.per == "group", starts=starts))
     for k, name in enumerate(spec.drift):
         if name not in spec.free:
             raise located.error(("drift", k), f"drift: '{name}' is not a free parameter")
@@ -585,15 +596,19 @@ def noise_si(raw, channel: Channel) -> float:
     return number * parse_unit(unit_text).factor
 
 
-def display_unit(entry) -> str:
-    """The unit a parameter is shown in: the unit it was written with in the netlist, else its SI unit."""
-    if isinstance(entry.raw, str):
-        try:
-            _, unit = split_quantity(entry.raw)
-            if unit:
-                return unit
-        except UnitError:
-            pass
+def display_unit(entry, given: FreeSpec | None = None) -> str:
+    """The unit a parameter is shown in: the unit it was written with in the netlist, else the unit the
+    experiment gives it in (``given``: its free: entry's start or bounds, ``"0 rpm"`` for a net's initial
+    speed that the netlist never wrote), else its SI unit."""
+    for raw in [entry.raw] + ([] if given is None else [given.initial, given.lower, given.upper]):
+        for text in (raw.values() if isinstance(raw, dict) else [raw]):
+            if isinstance(text, str):
+                try:
+                    _, unit = split_quantity(text)
+                except UnitError:
+                    continue
+                if unit:
+                    return unit
     return entry.unit if entry.unit not in (None, "SI") else ""
 
 

@@ -189,8 +189,9 @@ def markdown(cal, info: dict) -> str:
           + ("steady points" if data.kind == "steady" else "samples of a time series")
           + (f" in {'groups' if data.kind == 'steady' else 'runs'} {', '.join(data.groups)}"
              if len(data.groups) > 1 else "") + ")",
-          f"- imposed inputs: {', '.join(c.name for c in exp.inputs) or 'none'} (errors-in-variables: the true "
-          f"inputs are fitted as latent values); compared: {', '.join(c.name for c in exp.outputs)}"]
+          (f"- imposed inputs: {', '.join(c.name for c in exp.inputs)} (errors-in-variables: the true inputs are "
+           f"fitted as latent values)" if exp.inputs else "- imposed inputs: none")
+          + f"; compared: {', '.join(c.name for c in exp.outputs)}"]
     for tr in info["latent_traces"]:
         of_run, suffix = ("", "") if tr["run"] is None else (f" in run {tr['run']}", f"[{tr['run']}]")
         L.append(f"- latent trace of {tr['column']}{of_run}: the recording is taken as a noisy reading of a linear "

@@ -304,8 +304,9 @@ def _adopt(cal: Calibration, stage: Stage, netlist: Path, globals_: list[Free]) 
 
 def per_group_globals(exp: Experiment, data: Dataset) -> list[Free]:
     """The declared free parameters, each ``per: group`` one made a copy per group of the data,
-    ``<name>[<group>]``, with the same start, bounds and step (the groups: the grouping column's values, or
-    the data files of a time series of several runs). An error naming the entry if the data have one group."""
+    ``<name>[<group>]``, with the same bounds and step and its group's start (given per group, or the one
+    start) (the groups: the grouping column's values, or the data files of a time series of several runs).
+    An error naming the entry if the data have one group, or a start names a group the data do not have."""
     out = []
     for f in exp.free:
         if not f.per_group:
@@ -315,7 +316,12 @@ def per_group_globals(exp: Experiment, data: Dataset) -> list[Free]:
             raise exp.error(("free", f.name, "per"), f"free.{f.name}.per: group: the data have one group"
                             + (" (no grouping column, one data file)" if exp.spec.group is None else "")
                             + "; leave per: out to fit one value")
-        out += [replace(f, name=f"{f.name}[{label}]", run=label, per_group=False) for label in data.groups]
+        unknown = [g for g in f.starts if g not in data.groups]
+        if unknown:
+            raise exp.error(("free", f.name, "initial", unknown[0]), f"free.{f.name}.initial: no group "
+                            f"'{unknown[0]}' in the data (groups: {', '.join(data.groups)})")
+        out += [replace(f, name=f"{f.name}[{label}]", run=label, per_group=False, starts={},
+                        initial=f.starts.get(label, f.initial)) for label in data.groups]
     return out
 
 

@@ -53,6 +53,7 @@ def screen(smodel: Model, x: np.ndarray, base: FitResult, places: list[Place], c
     r0 = r0_full[rows]
     consistency = float(np.max(np.abs(r0 - base.r[rows]))) if r0.size else 0.0
     Q, coef_basis, names = _basis(base, smodel)
+    declared = {g.name for g in smodel.layout.globals if g.kind in ("declared", "candidate", "correction")}
     scores = []
     for place in places:
         j = column_of[place.key]
@@ -64,7 +65,7 @@ def screen(smodel: Model, x: np.ndarray, base: FitResult, places: list[Place], c
         s_perp = s - proj
         ss, sp = float(s @ s), float(s_perp @ s_perp)
         absorbed = 1.0 - sp / ss if ss > 0 else 1.0
-        by = _absorbers(coef_basis, names, s)
+        by = _absorbers(coef_basis, names, s, declared)
         if sp < 1e-3 * ss:
             scores.append(Score(place, "not identifiable", absorbed=absorbed, absorbed_by=by, step=h,
                                 note="absorbed by " + ", ".join(by)))
@@ -116,8 +117,10 @@ def _basis(base: FitResult, model: Model):
     return U, (Js, U, s, Vt), list(names_all[keep])
 
 
-def _absorbers(coef_basis, names, s) -> list[str]:
-    """The (at most two) free parameters whose columns carry most of the absorbed part of s."""
+def _absorbers(coef_basis, names, s, declared: set[str]) -> list[str]:
+    """The (at most two) free parameters whose columns carry most of the absorbed part of s: by name if
+    ``declared`` (fitted parameters, effects, sensor corrections; a per-group copy ``<name>[<group>]`` too),
+    else "the latent inputs" (a steady point's true input, a command level or knot)."""
     if coef_basis is None:
         return []
     Js, U, sv, Vt = coef_basis
@@ -128,5 +131,5 @@ def _absorbers(coef_basis, names, s) -> list[str]:
     for k in order[:2]:
         if contrib[k] > 0.05 * contrib[order[0]]:
             name = names[k]
-            out.append("the latent inputs" if "[" in name else name)
+            out.append(name if name in declared else "the latent inputs")
     return list(dict.fromkeys(out))

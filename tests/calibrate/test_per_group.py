@@ -83,6 +83,19 @@ def test_a_per_group_parameter_is_one_global_per_run(runs_dir):
         Model(Circuit.from_file(exp.netlist, compile=False), exp, data, exp.free)
 
 
+def test_each_group_may_start_apart_and_is_shown_in_the_unit_given(runs_dir):
+    """initial: {a: ..., b: ...} starts each run's copy at its own value; a net's initial speed, which the
+    netlist never wrote, is shown in the experiment's rpm (before: rad/s, its SI unit)."""
+    spec = yaml.safe_load(_experiment(runs_dir, "group").read_text())
+    spec["free"]["shaft.initial"]["initial"] = {"a": "500 rpm", "b": "-300 rpm"}
+    (runs_dir / "starts.yaml").write_text(yaml.safe_dump(spec, sort_keys=False))
+    exp = load_experiment(runs_dir / "starts.yaml")
+    copies = {g.name: g for g in per_group_globals(exp, load_data(exp))}
+    assert copies["shaft.initial[a]"].initial == pytest.approx(500 * 2 * np.pi / 60)
+    assert copies["shaft.initial[b]"].initial == pytest.approx(-300 * 2 * np.pi / 60)
+    assert copies["shaft.initial[a]"].unit == "rpm" and copies["m_load"].unit == "kg"
+
+
 def test_a_run_label_with_brackets_sets_the_parameter_itself(runs_dir, tmp_path):
     """A run is named by its file's stem, which may hold brackets (``run[1].csv``): its copy
     ``shaft.initial[run[1]]`` still sets ``shaft.initial`` (before: 'unknown parameter shaft.initial[run',
@@ -163,3 +176,15 @@ def test_per_group_with_one_group_or_in_drift_is_refused(runs_dir, tmp_path, cap
     assert "drift: 'shaft.initial' is fitted per group already" in err, err
     err = _refused(capsys, _experiment(tmp_path, "run"))
     assert "free.shaft.initial.per: 'run' is not known; allowed: 'group'" in err, err
+    for per, starts, said in ((None, {"a": "1 rpm", "b": "2 rpm"}, "free.shaft.initial.initial: a start per group "
+                                                                  "(a mapping) needs per: group"),
+                              ("group", {"a": "1 rpm", "c": "2 rpm"}, "free.shaft.initial.initial: no group 'c' in "
+                                                                      "the data (groups: a, b)"),
+                              ("group", {"a": "1 rpm", "b": "9000 rpm"}, "free.shaft.initial.initial.b: the start "
+                                                                         "value 9000 rpm is outside")):
+        file = _experiment(tmp_path, per)
+        spec = yaml.safe_load(file.read_text())
+        spec["free"]["shaft.initial"]["initial"] = starts
+        file.write_text(yaml.safe_dump(spec, sort_keys=False))
+        err = _refused(capsys, file)
+        assert said in err and "exp.yaml:" in err, err

@@ -19,7 +19,9 @@ class LinearModel:
     def __init__(self, A, y):
         self.A, self.y = A, y
         self.data = SimpleNamespace(kind="time")
-        self.layout = SimpleNamespace(names=lambda: [f"theta{k}" for k in range(A.shape[1])])
+        names = [f"theta{k}" for k in range(A.shape[1])]
+        self.layout = SimpleNamespace(names=lambda: names,
+                                      globals=[SimpleNamespace(name=n, kind="declared") for n in names])
 
     def residuals(self, x, points=None):
         return self.A @ x - self.y
@@ -72,6 +74,12 @@ def test_absorbed_candidate_is_not_identifiable_and_names_what_absorbs_it():
     (score,), _ = screen(model, x, base, [place("same")], {"same": 2})
     assert score.status == "not identifiable"
     assert set(score.absorbed_by) == {"theta0", "theta1"} and score.absorbed > 0.999
+    # a per-group parameter's copy is named; a latent input (a steady point's true input) is "the latent inputs"
+    model.layout.globals = [SimpleNamespace(name="k[a]", kind="declared"), SimpleNamespace(name="Q[3]", kind="latent"),
+                            SimpleNamespace(name="theta2", kind="candidate")]
+    model.layout.names = lambda: ["k[a]", "Q[3]", "theta2"]
+    (score,), _ = screen(model, x, base, [place("same")], {"same": 2})
+    assert set(score.absorbed_by) == {"k[a]", "the latent inputs"}
 
 
 def test_one_sided_candidate_pulled_below_zero_scores_nothing():

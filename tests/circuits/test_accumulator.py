@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.circuit import Circuit
-from blocks.library.hydraulic.accumulator import STOP_FRACTION, Accumulator
+from blocks.library.hydraulic.accumulator import EMPTY_FRACTION, Accumulator
 
 NETLIST = Path(__file__).parent / "netlists" / "accumulator_charge.yaml"
 Q, V_LINE, BETA = 6e-3 / 60, 1e-5, 8e8
@@ -47,14 +47,37 @@ def test_charging_follows_the_polytropic_gas_law_in_absolute_pressure():
     assert r["V_i"][-1] > 0.45 * V0  # 5 s of 6 l/min: half a litre in
 
 
-def test_the_block_alone_and_its_empty_stop():
+def test_the_block_alone_and_an_empty_accumulator_gives_no_oil():
     values = {"V0": V0, "p0": P0, "kappa": 1.4, "G_in": G_IN, "p_atm": P_ATM}
     q_net, dv = Accumulator.derivatives(80e5, 0.3e-3, **values)
     assert dv == -q_net == G_IN * (80e5 - gas_pressure(0.3e-3, 1.4))
-    # empty and below the precharge: the stop takes the gas down to the oil's pressure within 0.1 % of V0
-    stop = -STOP_FRACTION * V0 * (P0 - 30e5) / (P0 + P_ATM)
-    assert abs(Accumulator.derivatives(30e5, stop, **values)[1]) < 1e-6 * G_IN * P0
-    assert Accumulator.derivatives(30e5, 0.0, **values)[1] < 0 < Accumulator.derivatives(30e5, 2 * stop, **values)[1]
+    # discharging: the full flow until the last 0.1 % of V0, then fading to nothing when empty
+    assert Accumulator.derivatives(30e5, 0.3e-3, **values)[1] == G_IN * (30e5 - gas_pressure(0.3e-3, 1.4))
+    assert Accumulator.derivatives(30e5, 0.0, **values)[1] == 0.0
+    assert Accumulator.derivatives(30e5, -1e-9, **values)[1] == 0.0
+    near = Accumulator.derivatives(30e5, 0.5 * EMPTY_FRACTION * V0, **values)[1]
+    assert G_IN * (30e5 - gas_pressure(0.5 * EMPTY_FRACTION * V0, 1.4)) < near < 0.0  # fading
+    # empty and filling: the full inflow
+    assert Accumulator.derivatives(60e5, 0.0, **values)[1] == G_IN * (60e5 - P0)
+
+
+def test_an_empty_accumulator_leaves_a_net_below_its_precharge_alone(tmp_path):
+    """Before: the empty bladder's stop gave up 0.1 % of V0, which took a 0.1 l net from 0 to 43 bar."""
+    (tmp_path / "rest.yaml").write_text(
+        "components:\n  acc: {type: accumulator, params: {V0: '4 l', p0: '50 bar'}}\n"
+        "nets:\n  B: {ports: [acc.port], volume: '0.1 l', initial: '0 bar'}\n"
+        "outputs:\n  p: B\n  V: acc.V_oil\nsimulation: {t_end: '1 s', dt_out: '10 ms'}\n")
+    r = Circuit.from_file(tmp_path / "rest.yaml").simulate()
+    assert np.max(np.abs(r["p"])) == 0.0 and np.max(np.abs(r["V"])) == 0.0
+
+
+def test_a_start_outside_the_accumulator_is_refused():
+    """Before: the charge formula used below the precharge gave V_oil = -3.54 l, and the net went to
+    -38860 bar with exit 0."""
+    values = {"V0": V0, "p0": P0, "kappa": 1.4, "G_in": G_IN, "p_atm": P_ATM}
+    assert Accumulator.check_values({**values, "initial.V_oil": 0.0}) is None
+    for start in (-3.54e-3, V0, 1.2 * V0):
+        assert "must be in [0, V0 = 1 l)" in Accumulator.check_values({**values, "initial.V_oil": start})
 
 
 def test_a_precharge_with_no_absolute_pressure_is_refused():

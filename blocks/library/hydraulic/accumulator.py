@@ -1,31 +1,32 @@
 """Gas-loaded hydraulic accumulator (bladder or piston), polytropic gas."""
 
 from blocks.block import Block, Param, State, hydraulic
+from blocks.library.hydraulic.flow import smooth_step
 from blocks.registry import register
 
-STOP_FRACTION = 1e-3
-"""Oil volume below empty, as a fraction of V0, over which the emptied bladder's stop takes the gas pressure
-from the precharge down to absolute zero (a stiff, continuous stop instead of a switch)."""
+EMPTY_FRACTION = 1e-3
+"""Oil volume, as a fraction of V0, over which the outflow of an emptying accumulator fades to nothing."""
 
 
 @register("accumulator")
 class Accumulator(Block):
     """Gas-loaded accumulator: oil volume V_oil against a gas precharged to p0 in the volume V0.
 
-    V_g  = V0 - V_oil                                        gas volume [m^3]
-    p_g  = (p0 + p_atm)*(V0/V_g)^kappa - p_atm               gas (= oil) pressure, gauge [Pa], V_oil >= 0
-    p_g  = p0 + (p0 + p_atm)*V_oil/(STOP_FRACTION*V0)         V_oil < 0: the emptied bladder on its stop
-    q    = G_in*(p - p_g)                                    flow into the accumulator [m^3/s]
+    V_g  = V0 - max(V_oil, 0)                                gas volume [m^3]
+    p_g  = (p0 + p_atm)*(V0/V_g)^kappa - p_atm               gas (= oil) pressure, gauge [Pa]
+    q    = G_in*(p - p_g)                     p >= p_g       flow into the accumulator [m^3/s]
+    q    = G_in*(p - p_g)*s(V_oil)            p <  p_g       out of it: s = smooth_step(V_oil, 0, 0.1 % of V0)
     dV_oil/dt = q
 
     The gas follows the polytropic law in absolute pressures (kappa = 1 isothermal, slow cycles; 1.4
-    adiabatic, fast ones). Below its precharge the accumulator is empty: the gas holds the bladder on
-    its stop, and the stop takes the gas pressure from p0 down to absolute zero over 0.1 % of V0 below
-    empty, so an empty accumulator gives up at most that much more oil (a stiff stop rather than a switch
-    the solver would have to find). G_in is the port's conductance (its inlet valve and neck): small
-    enough to be the accumulator's own lag, large enough that the oil pressure follows the gas.
-    An accumulator starting charged is given its oil volume: ``initial: {V_oil: ...}``, at pressure p
-    V_oil = V0*(1 - ((p0 + p_atm)/(p + p_atm))^(1/kappa)).
+    adiabatic, fast ones). Below its precharge the accumulator is empty: the gas holds the bladder on its
+    stop and no oil comes out (the outflow fades to zero over the last 0.1 % of V0, a continuous law rather
+    than a switch the solver would have to find), so an empty accumulator on a net below p0 leaves it alone.
+    G_in is the port's conductance (its inlet valve and neck): small enough to be the accumulator's own lag,
+    large enough that the oil pressure follows the gas. The accumulator adds no capacity to its net: the
+    net's own volume (a line) is still needed. It starts empty (V_oil = 0, at rest on a net at or below
+    p0); one charged to pressure p >= p0 is given its oil volume, ``initial: {V_oil: ...}`` with
+    V_oil = V0*(1 - ((p0 + p_atm)/(p + p_atm))^(1/kappa)), in 0 <= V_oil < V0 (checked).
 
     q > 0 flows into the accumulator: the block delivers -q to its net.
     """
@@ -44,14 +45,17 @@ class Accumulator(Block):
     def check_values(cls, values: dict) -> str | None:
         if values["p0"] + values["p_atm"] <= 0.0:
             return "p0 + p_atm must be positive: the gas law needs an absolute precharge pressure"
+        start = values.get("initial.V_oil", 0.0)
+        if not 0.0 <= start < values["V0"]:
+            return (f"initial V_oil = {start * 1e3:g} l must be in [0, V0 = {values['V0'] * 1e3:g} l): 0 is empty "
+                    f"(any pressure up to p0), a charged one holds less oil than its gas volume")
         return None
 
     @staticmethod
     def derivatives(port, V_oil, V0, p0, kappa, G_in, p_atm):
-        if V_oil >= 0.0:
-            V_g = max(V0 - V_oil, 1e-9 * V0)
-            p_g = (p0 + p_atm) * (V0 / V_g) ** kappa - p_atm
-        else:
-            p_g = p0 + (p0 + p_atm) * V_oil / (STOP_FRACTION * V0)
+        V_g = max(V0 - max(V_oil, 0.0), 1e-9 * V0)
+        p_g = (p0 + p_atm) * (V0 / V_g) ** kappa - p_atm
         q = G_in * (port - p_g)
+        if q < 0.0:
+            q *= smooth_step(V_oil, 0.0, EMPTY_FRACTION * V0)
         return -q, q
