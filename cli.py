@@ -154,7 +154,7 @@ def part_hint(exc, netlist: str):
     except (OSError, yaml.YAMLError, AttributeError):
         return exc
     exposed = [str(ref) for ref in ports.values()] if isinstance(ports, dict) else []
-    if not any(f"'{name}'" in exc.message for name in exposed):
+    if not any(f"net '{name}'" in exc.message for name in exposed):  # about the net itself, not a namesake
         return exc
     return NetlistError(exc.file, f"{exc.message} (this file is a subsystem part: it exposes "
                                   f"{', '.join(map(str, ports))} under ports:, which the netlist using it "
