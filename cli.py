@@ -128,37 +128,13 @@ def main(argv: list[str] | None = None) -> int:
 def cmd_validate(args) -> int:
     """Everything `vphs run` checks before simulating: structure, outputs, settings, every value."""
     from blocks.circuit import Circuit
-    from blocks.errors import NetlistError
 
-    try:
-        circuit = Circuit.from_file(args.netlist, compile=False)
-    except NetlistError as exc:
-        raise part_hint(exc, args.netlist) from None
+    circuit = Circuit.from_file(args.netlist, compile=False)
     circuit.vectors()
     st = circuit.structure
     print(f"{args.netlist}: ok: {len(circuit.flat.components)} components, {len(circuit.flat.nets)} nets, "
           f"{st.n_states} states, {st.theta_size} parameters")
     return 0
-
-
-def part_hint(exc, netlist: str):
-    """``exc``, with a hint when ``netlist`` is a subsystem part (it exposes ``ports:``) and the error is about a
-    net it exposes: a net that the netlist using the part completes (its volume, its driver) is incomplete in
-    the part alone."""
-    import yaml
-
-    from blocks.errors import NetlistError
-
-    try:
-        ports = (yaml.safe_load(Path(netlist).read_text()) or {}).get("ports") or {}
-    except (OSError, yaml.YAMLError, AttributeError):
-        return exc
-    exposed = [str(ref) for ref in ports.values()] if isinstance(ports, dict) else []
-    if not any(f"net '{name}'" in exc.message for name in exposed):  # about the net itself, not a namesake
-        return exc
-    return NetlistError(exc.file, f"{exc.message} (this file is a subsystem part: it exposes "
-                                  f"{', '.join(map(str, ports))} under ports:, which the netlist using it "
-                                  f"connects; validate that netlist)", exc.line, exc.column)
 
 
 def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] | None = None) -> dict[str, float]:
@@ -254,14 +230,10 @@ RUN_SETTING_OPTIONS = {"t_end": "--t-end", "solver": "--solver"}  # the simulati
 
 def cmd_run(args) -> int:
     from blocks.circuit import Circuit
-    from blocks.errors import NetlistError
     from blocks.units import UnitError, quantity
 
     check_output_paths(args.output, args.plot, inputs=(args.netlist,))
-    try:
-        circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
-    except NetlistError as exc:
-        raise part_hint(exc, args.netlist) from None
+    circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
     overrides = parse_overrides(args.set, circuit, RUN_SETTING_OPTIONS)  # before the (possibly slow) compilation
     circuit.vectors(overrides)
     settings = circuit.settings

@@ -127,7 +127,8 @@ def _signal_drivers(st: Structure) -> None:
         ins = [(c, p) for c, p in net.ports if st.circuit.components[c].cls.port(p).direction == "in"]
         if not outs:
             raise net.source.error(net.path, f"signal net '{net.name}' has no driving output "
-                                   f"(it joins only inputs: {', '.join(f'{c}.{p}' for c, p in ins)})")
+                                   f"(it joins only inputs: {', '.join(f'{c}.{p}' for c, p in ins)})"
+                                   + _exposed_hint(st, [net.name]))
         if len(outs) > 1:
             raise net.source.error(net.path, f"signal net '{net.name}' is driven by two outputs: "
                                    f"{outs[0][0]}.{outs[0][1]} and {outs[1][0]}.{outs[1][1]}")
@@ -185,6 +186,16 @@ def _rigid_bodies(st: Structure) -> None:
             st.body_of[n] = body
 
 
+def _exposed_hint(st: Structure, nets: list[str]) -> str:
+    """For an error about an incomplete net: when the file exposes it under ``ports:`` (a subsystem part
+    validated or run alone), the netlist that uses the part is what completes it (its volume, driver, mass)."""
+    ports = st.circuit.netlist.ports
+    if not any(ref in nets for ref in ports.values()):
+        return ""
+    return (f" (this file is a subsystem part: it exposes {', '.join(ports)} under ports:, which the netlist "
+            f"using it connects; validate that netlist)")
+
+
 def _check_inertia(st: Structure, body: RigidBody) -> None:
     for net in body.members:
         for comp, port in st.circuit.nets[net].ports:
@@ -193,7 +204,8 @@ def _check_inertia(st: Structure, body: RigidBody) -> None:
     net = st.circuit.nets[body.root]
     what = CAPACITY[body.kind][0]
     raise net.source.error(net.path, f"{body.kind.value} net '{body.root}' has no inertia: attach a block that "
-                           f"stores {'inertia' if what == 'J' else 'mass'} (e.g. {'inertia' if what == 'J' else 'mass'})")
+                           f"stores {'inertia' if what == 'J' else 'mass'} (e.g. {'inertia' if what == 'J' else 'mass'})"
+                           + _exposed_hint(st, list(body.members)))
 
 
 def _hydraulic_states(st: Structure) -> None:
@@ -207,7 +219,7 @@ def _hydraulic_states(st: Structure) -> None:
                 raise net.source.error(net.path, f"hydraulic net '{net.name}' has no volume: give it volume:, "
                                        f"attach a volume component, or set defaults: volume: in the netlist "
                                        f"(a net held at a pressure, such as a return line, gets a tank or "
-                                       f"pressure_source instead)")
+                                       f"pressure_source instead)" + _exposed_hint(st, [net.name]))
             raw, source, scope = net.default_volume
             circuit.parameters.add(make_entry(f"{net.name}.volume", raw, "m^3", scope, source, ("defaults", "volume"),
                                               NET_BOUNDS["volume"]))
