@@ -166,7 +166,7 @@ class Circuit:
             warnings=self._cavitation(outcome, vec),
         )
         if outcome.status != 0:
-            raise SimulationError(self._failure_message(outcome), ) from None
+            raise SimulationError(self._failure_message(outcome, vec)) from None
         beyond = self._beyond_hydraulics(outcome)
         if beyond and settings.solver == "fixed":
             raise SimulationError(f"{self.flat.file}: {beyond}: either the fixed step of {settings.fixed_step:g} s, "
@@ -233,7 +233,7 @@ class Circuit:
                              f"vapour pressure {p_vap / 1e5:.3g} bar,{when}")
         return found
 
-    def _failure_message(self, outcome) -> str:
+    def _failure_message(self, outcome, vec: Vectors) -> str:
         why = {1: "the step size fell below its minimum", 2: "the maximum number of steps was reached",
                3: "a state or derivative became NaN or infinite"}.get(outcome.status, f"status {outcome.status}")
         msg = f"{self.flat.file}: the solver failed at t = {outcome.t_reached:.6g} s: {why}"
@@ -242,13 +242,35 @@ class Circuit:
             owners = self._owners(slot)
             value = outcome.x_end[outcome.bad_index] if outcome.x_end is not None else float("nan")
             unit = f" {slot.unit}" if slot.unit not in ("1", "", "SI") else ""
-            msg += f"; state {slot.name} = {value:.4g}{unit} ({owners})"
+            msg += f"; state {slot.name} = {value:.4g}{unit} ({owners})" + self._no_inertia(slot, vec)
         finite = outcome.x_end is not None and np.all(np.isfinite(outcome.x_end))
         if outcome.x_end is not None and not finite:
             bad = [s.name for s in self.structure.states
                    if not np.all(np.isfinite(outcome.x_end[s.index:s.index + s.size]))]
             msg += f"; non-finite states: {', '.join(bad[:8])}"
         return msg
+
+    def _no_inertia(self, slot, vec: Vectors) -> str:
+        """'' or what says a rigid body's speed had nothing to accelerate: every block storing on the body
+        (an inertia, a mass, a motor's rotating group) declares its inertia or mass as a parameter and all
+        of them are 0, so dw/dt = sum(tau)/0. Said only when that is certain."""
+        body = self.structure.body_of.get(slot.owner) if slot.kind == "speed" else None
+        if body is None or body.state is not slot:
+            return ""
+        holders = []
+        for net in body.members:
+            for comp, port in self.flat.nets[net].ports:
+                cls = self.flat.components[comp].cls
+                if not any(p.name == port and p.stores for p in cls.ports):
+                    continue
+                found = [f"{comp}.{p.name}" for p in cls.params if p.unit in ("kg", "kg*m^2")]
+                if not found:
+                    return ""  # a capacity computed some other way: not certain
+                holders += found
+        if not holders or any(vec.values[name] != 0.0 for name in holders):
+            return ""
+        return (f"; nothing on it has inertia ({', '.join(f'{name} = 0' for name in holders)}): a rigid body "
+                f"needs a mass or an inertia")
 
     def _owners(self, slot) -> str:
         if slot.kind == "block":

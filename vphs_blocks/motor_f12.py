@@ -52,7 +52,7 @@ class ParkerMotor(Block):
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the Coulomb friction changes sign"),
         Param("B_v", "N*m*s/rad", 0.0, 0.0, 1e6, "viscous friction coefficient on the shaft"),
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient of the leakage orifices"),
-        Param("dp_t", "Pa", 1e5, 1.0, 1e7, "laminar-turbulent transition pressure drop of the leakage (regularisation width)"),
+        Param("dp_t", "Pa", 1e5, 1.0, 1e7, "regularisation width of the leakage's square-root law (16 % under it at dp = dp_t)"),
     ) + fluid_params()[:1]
     presets = {
         "F12-030": {"D": "30 cm^3/rev", "A_lm": "0.13 mm^2", "A_ld": "1e-4 mm^2", "J_m": "1.7e-3 kg*m^2",

@@ -75,7 +75,7 @@ class PVG32(Block):
         Param("dp_c", "Pa", 7e5, 0.0, 1e8, "pressure drop the compensator holds across the meter-in edge"),
         Param("dp_ls", "Pa", 60e5, 1.0, 1e9, "pressure band below p_LS over which the compensated drop falls to 0"),
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient of every edge"),
-        Param("dp_t", "Pa", 1e4, 1.0, 1e7, "laminar-turbulent transition pressure drop (regularisation width)"),
+        Param("dp_t", "Pa", 1e4, 1.0, 1e7, "square-root law's regularisation width (q 16 % low at dp = dp_t, 1 % at 5*dp_t)"),
     ) + fluid_params()[:1]
     states = (
         State("x", "m", 0.0, 1e-3, "spool position"),

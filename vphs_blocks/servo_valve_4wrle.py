@@ -73,7 +73,7 @@ class Servo4WRLE(Block):
     100 % (a W spool's bleed notch is part of that edge, so it neither closes nor jumps). Every area is
     continuous in x and each edge reaches A_max at full stroke, where the data sheet gives 180 l/min.
 
-    Flows (turbulent orifice law with the laminar transition dp_t, blocks.library.hydraulic.flow):
+    Flows (turbulent orifice law regularised over dp_t, blocks.library.hydraulic.flow):
         q_XY = Cd*A_XY*sqrt(2/rho) * (p_X - p_Y)/((p_X - p_Y)^2 + dp_t^2)^(1/4)   [m^3/s], X -> Y
     Delivered to the nets: q_P = -(q_PA + q_PB), q_T = q_AT + q_BT, q_A = q_PA - q_AT, q_B = q_PB - q_BT
     (the valve stores no oil: the four sum to 0).
@@ -100,7 +100,7 @@ class Servo4WRLE(Block):
         Param("wn", "rad/s", 52.6, 1e-3, 1e5, "natural angular frequency of the spool response (eq. 2.1)"),
         Param("zeta", "1", 0.90, 0.0, 10.0, "damping ratio of the spool response (eq. 2.1)"),
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient of every edge"),
-        Param("dp_t", "Pa", 1e4, 1.0, 1e7, "laminar-turbulent transition pressure drop (regularisation width)"),
+        Param("dp_t", "Pa", 1e4, 1.0, 1e7, "square-root law's regularisation width (q 16 % low at dp = dp_t, 1 % at 5*dp_t)"),
     ) + fluid_params()[:1]
     states = (
         State("x", "1", 0.0, 1.0, "normalised spool position"),

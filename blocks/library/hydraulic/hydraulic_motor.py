@@ -22,7 +22,10 @@ class HydraulicMotor(Block):
 
     D is the displacement per radian [m^3/rad] (D = V_rev/(2*pi)). Sign convention: p_a > p_b drives the
     shaft forward (w > 0), which draws oil from a and delivers it to b. Hydraulic power consumed by the
-    ideal part, (p_a - p_b)*D*w, equals the shaft power tau*w; the leakage dissipates G_leak*(p_a - p_b)^2.
+    ideal part, (p_a - p_b)*D*w, equals tau_h*w; the shaft gets tau*w, the friction dissipating
+    (1 - eta_hm)*|tau_h*w| (|w| >> w_w), and the leakage dissipates G_leak*(p_a - p_b)^2. The friction is
+    (1 - eta_hm)*|tau_h| in pumping too (an overrunning load, tau_h*w < 0), so the efficiency from shaft
+    to oil is then 1/(2 - eta_hm) (0.909 for eta_hm = 0.9), not eta_hm.
     """
 
     ports = (

@@ -7,7 +7,7 @@ from blocks.registry import register
 
 @register("orifice")
 class Orifice(Block):
-    """Turbulent orifice of fixed area with a laminar transition near zero pressure drop.
+    """Turbulent orifice of fixed area, regularised (linear) near zero pressure drop.
 
     q = Cd*A*sqrt(2/rho) * (p_a - p_b) / ((p_a - p_b)^2 + dp_t^2)^(1/4)
 
@@ -18,7 +18,7 @@ class Orifice(Block):
     params = (
         Param("A", "m^2", None, 0.0, 1.0, "orifice area"),
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient"),
-        Param("dp_t", "Pa", 1e5, 1.0, 1e7, "laminar-turbulent transition pressure drop (regularisation width)"),
+        Param("dp_t", "Pa", 1e5, 1.0, 1e7, "square-root law's regularisation width (q 16 % low at dp = dp_t, 1 % at 5*dp_t)"),
     ) + fluid_params()[:1]
 
     @staticmethod

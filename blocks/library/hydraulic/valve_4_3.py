@@ -39,7 +39,7 @@ class Valve43(Block):
         Param("x_db", "1", 0.0, 0.0, 0.99, "dead band (overlap) as a fraction of the spool stroke"),
         Param("A_leak", "m^2", 0.0, 0.0, 1.0, "leakage area added to every edge"),
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient"),
-        Param("dp_t", "Pa", 1e5, 1.0, 1e7, "laminar-turbulent transition pressure drop (regularisation width)"),
+        Param("dp_t", "Pa", 1e5, 1.0, 1e7, "square-root law's regularisation width (q 16 % low at dp = dp_t, 1 % at 5*dp_t)"),
     ) + fluid_params()[:1]
 
     @staticmethod

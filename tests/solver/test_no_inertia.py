@@ -1,0 +1,35 @@
+"""A rigid body with nothing to accelerate (every inertia and mass on it 0) fails at its first step; the
+message says so (blocks.circuit.Circuit._no_inertia). Found by a physics review: it said only that the
+speed became NaN."""
+
+from __future__ import annotations
+
+import pytest
+import yaml
+
+from blocks.circuit import Circuit
+from blocks.errors import SimulationError
+
+DRIVEN = {"components": {"src": {"type": "pressure_source", "params": {"p": "100 bar"}}, "tank": {"type": "tank"},
+                         "motor": {"type": "hydraulic_motor", "params": {"D": "10 cm^3/rev", "J_m": 0}},
+                         "gear": {"type": "gear", "params": {"n": 5}},
+                         "load": {"type": "inertia", "params": {"J": 0}}},
+          "nets": {"P": ["src.port", "motor.a"], "T": ["tank.port", "motor.b"],
+                   "fast": ["motor.shaft", "gear.a"], "slow": ["gear.b", "load.port"]},
+          "simulation": {"t_end": "0.1 s"}}
+
+
+def _circuit(tmp_path, doc) -> Circuit:
+    (tmp_path / "net.yaml").write_text(yaml.safe_dump(doc, sort_keys=False))
+    return Circuit.from_file(tmp_path / "net.yaml")
+
+
+def test_a_body_with_no_inertia_across_a_gear_is_named_with_its_zero_parameters(tmp_path):
+    with pytest.raises(SimulationError, match=r"nothing on it has inertia \((motor\.J_m = 0, load\.J = 0|load\.J = 0, "
+                                              r"motor\.J_m = 0)\): a rigid body needs a mass or an inertia"):
+        _circuit(tmp_path, DRIVEN).simulate()
+
+
+def test_one_inertia_anywhere_on_the_body_runs_and_is_not_blamed(tmp_path):
+    result = _circuit(tmp_path, DRIVEN).simulate({"load.J": 0.1})
+    assert result.t[-1] == pytest.approx(0.1)
