@@ -301,10 +301,7 @@ class Circuit:
             declared = self._declared_units(out.of) if unit in ("", GENERIC) else []
             if out.unit is not None:
                 self._check_display_unit(out, unit, declared)
-            known = declared[0][1] if declared and all(
-                parse_unit(u).same_dimension(parse_unit(declared[0][1])) for _, u in declared) else None
-            # a generic signal whose readers agree on a (SI-coherent) unit is shown in it, not as "SI"
-            resolved.append(ResolvedOutput(out.name, expr, unit, out.unit or known or unit,
+            resolved.append(ResolvedOutput(out.name, expr, unit, out.unit or self._agreed_unit(declared) or unit,
                                            declared[0][1] if declared else None))
         if not resolved:
             resolved = self._default_outputs()
@@ -353,9 +350,18 @@ class Circuit:
                                        f"own name (there is no outputs: section): {problem}; rename it or "
                                        f"list the outputs")
             expr, unit = self.generator.resolve_output(net.name)
-            display = "bar" if unit == "Pa" else unit
-            out.append(ResolvedOutput(net.name, expr, unit, display))
+            declared = self._declared_units(net.name) if unit in ("", GENERIC) else []
+            display = "bar" if unit == "Pa" else self._agreed_unit(declared) or unit
+            out.append(ResolvedOutput(net.name, expr, unit, display, declared[0][1] if declared else None))
         return out
+
+    @staticmethod
+    def _agreed_unit(declared: list[tuple[str, str]]) -> str | None:
+        """The unit the ports reading a generic signal declare, if they agree on its dimension: the signal
+        is shown in it, not as "SI" (a spool command read by a valve's ``x`` [1] is a plain number)."""
+        if declared and all(parse_unit(u).same_dimension(parse_unit(declared[0][1])) for _, u in declared):
+            return declared[0][1]
+        return None
 
 
 @dataclass

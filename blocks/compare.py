@@ -214,6 +214,11 @@ def resolve(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
     """The (sim, ref) names of x and of each curve, checked to exist with matching dimensions, and the
     reference columns left out by default matching. Needs only the names and units of ``simulated``."""
     x_sim, x_ref = split_pair(x)
+    if reference.group is not None and reference.group in simulated.columns:
+        unit = simulated.units[reference.group]
+        raise reference.error(f"has no unit, so it only labels groups of points, yet the simulation has a signal "
+                              f"'{reference.group}': to compare it, write its unit ('{reference.group} [{unit}]')",
+                              reference.group)
     check_reference_columns(reference, x, ys or [])
     _sim_column(simulated, x_sim)
     _same_dimension(simulated, x_sim, reference, x_ref)

@@ -315,14 +315,16 @@ _INLINE_QUANTITY = re.compile(
 _LITERAL_NAMES = __import__("itertools").count()
 
 
-def substitute_quantities(text: str) -> tuple[str, dict[str, tuple[float, Unit]]]:
+def substitute_quantities(text: str) -> tuple[str, dict[str, tuple[float, Unit, str]]]:
     """Replace each "<number> <unit>" inside an expression by a placeholder name; return the new text and
-    the placeholders' SI values and units (so the dimension of the expression can be checked).
+    the placeholders' SI values, units and written text (so the dimension of the expression can be checked,
+    and messages can show what was written, not the placeholder).
 
-    ``"23000 kg + m_payload"`` -> ``("_q7 + m_payload", {"_q7": (23000.0, kg)})``. A unit must follow its
-    number after a space; text that is not a known unit is left alone ("3 bar * k": the unit is "bar").
+    ``"23000 kg + m_payload"`` -> ``("_q7 + m_payload", {"_q7": (23000.0, kg, "23000 kg")})``. A unit must
+    follow its number after a space; text that is not a known unit is left alone ("3 bar * k": the unit is
+    "bar").
     """
-    literals: dict[str, tuple[float, Unit]] = {}
+    literals: dict[str, tuple[float, Unit, str]] = {}
 
     def replace(match: re.Match) -> str:
         unit_text = match.group("unit")
@@ -333,7 +335,8 @@ def substitute_quantities(text: str) -> tuple[str, dict[str, tuple[float, Unit]]
             except UnitError:
                 continue
             name = f"_q{next(_LITERAL_NAMES)}"
-            literals[name] = (float(match.group("value")) * unit.factor, unit)
+            literals[name] = (float(match.group("value")) * unit.factor, unit,
+                              f"{match.group('value')} {unit_text[:cut]}")
             return f"{name}{unit_text[cut:]}"
         return match.group(0)
 

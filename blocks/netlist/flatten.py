@@ -539,6 +539,10 @@ def read_csv_column(file: Path, column: str, unit: str, located: Located, path: 
     except NetlistError as exc:
         raise located.error(path, f"CSV {exc}") from None
     name = column.split("[")[0].strip()
+    if name == table.group:
+        example = f"{name} [{unit}]" if unit != GENERIC else f"{name} [<unit>]"
+        raise located.error(path, f"{file}: column '{name}' has no unit in its header (a column without one "
+                                  f"only labels groups of rows): write it as '{example}'")
     if name not in table.columns:
         raise located.error(path, f"{file}: no column '{column}' (columns: {', '.join(table.columns)})")
     written = table.units[name]

@@ -24,8 +24,8 @@ import numpy as np
 from blocks.errors import NetlistError, VphsError
 from blocks.expressions import Expression, ExpressionError, dotted_name, parse_expression
 from blocks.netlist.yaml_source import Located
-from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, nearest, parse_unit, quantity, split_quantity,
-                          substitute_quantities)
+from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, nearest, parse_unit, quantity, quantity_name, si_name,
+                          split_quantity, substitute_quantities)
 
 FREE = None  # dimension of a bare number: adapts to its place
 
@@ -48,7 +48,7 @@ class Entry:
     path: tuple
     bounds: object | None = None  # a blocks.block.Param to check bounds with
     elements: list | None = None  # an array of constants and expressions (array parameters)
-    literals: dict[str, tuple[float, Unit]] = field(default_factory=dict)
+    literals: dict[str, tuple[float, Unit, str]] = field(default_factory=dict)
     dims: Unit | None = FREE  # the written unit of a constant, or the declared unit (FREE for a bare number)
     raw: object = None  # the text as written (re-read when a net's kind fixes the unit of its initial value)
 
@@ -262,7 +262,7 @@ class ParameterTable:
                 continue
             if entry.expression is not None or entry.elements is not None:
                 local = {n: values[entry.scope[n]] for n in entry.dependencies()}  # order() checked the scope
-                local.update({k: v for k, (v, _) in entry.literals.items()})
+                local.update({k: v for k, (v, _, _) in entry.literals.items()})
                 try:
                     if entry.elements is not None:
                         value = tuple(item.evaluate(local) if isinstance(item, Expression) else item
@@ -270,7 +270,7 @@ class ParameterTable:
                     else:
                         value = entry.expression.evaluate(local)
                 except ExpressionError as exc:
-                    raise entry.error(f"{entry.name}: {exc}") from None
+                    raise entry.error(f"{entry.name}: {as_written(str(exc), entry.literals)}") from None
             else:
                 value = entry.constant
             if entry.bounds is not None:
@@ -279,6 +279,14 @@ class ParameterTable:
                     raise entry.error(f"{entry.name.rsplit('.', 1)[0]}: {problem}")
             values[name] = value
         return values
+
+
+def as_written(message: str, literals: dict) -> str:
+    """``message`` with the placeholders of unit ``literals`` put back as written (``_q3`` -> ``50 mm``)."""
+    if not literals:
+        return message
+    return re.sub(r"\b_q\d+\b", lambda m: literals[m.group(0)][2] if m.group(0) in literals else m.group(0),
+                  message)
 
 
 def _sole_name(node: ast.AST, entry: Entry) -> str | None:
@@ -290,6 +298,22 @@ def _sole_name(node: ast.AST, entry: Entry) -> str | None:
     if isinstance(node, ast.Attribute):
         return dotted_name(node, entry.written)
     return None
+
+
+def _refuse_plain_number_beside_scaled_unit(number: ast.AST, other: ast.AST, entry: Entry) -> None:
+    """A number written bare, added to a quantity written in a scaled unit in the same expression, is
+    refused: in ``"50 mm + 10"`` the 10 counts as SI (10 m) where the writer most likely meant 10 mm. A bare
+    number added to parameters (``"0.085 + m*r**2/n**2"``) stays SI, as everywhere else."""
+    while isinstance(number, ast.UnaryOp):
+        number = number.operand
+    if not isinstance(number, ast.Constant):
+        return
+    scaled = [entry.literals[n.id] for n in ast.walk(other)
+              if isinstance(n, ast.Name) and n.id in entry.literals and entry.literals[n.id][1].factor != 1.0]
+    if scaled:
+        _, unit, text = scaled[0]
+        raise UnitError(f"adds the plain number {number.value:g} to {text}: a plain number counts in SI "
+                        f"({si_name(unit)}) there; write its unit")
 
 
 def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
@@ -309,6 +333,9 @@ def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
         if isinstance(node.op, (ast.Add, ast.Sub, ast.Mod)):
             if left is not FREE and right is not FREE and not left.same_dimension(right):
                 raise UnitError(f"adds {left.describe_dims()} to {right.describe_dims()}")
+            if (left is FREE) != (right is FREE):
+                _refuse_plain_number_beside_scaled_unit(*((node.left, node.right) if left is FREE
+                                                          else (node.right, node.left)), entry)
             return left if left is not FREE else right
         if isinstance(node.op, ast.Mult):
             return left if right is FREE else right if left is FREE else left * right
@@ -375,12 +402,14 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
             return Entry(name, unit, value, None, scope, source, path, bounds, dims=dims, raw=raw)
         except UnitError as exc:
             unit_problem = exc  # may still be an expression such as "0.085 + m_load*r**2"
+    literals = {}
     try:
         text, literals = substitute_quantities(raw)
         expression = parse_expression(text)
     except (ExpressionError, UnitError) as exc:
         meant_an_expression = unit_problem is not None and not re.match(r"[A-Za-z%]", split_quantity(raw)[1])
-        raise source.error(path, f"{name}: {exc if meant_an_expression else unit_problem or exc}") from None
+        problem = as_written(str(exc), literals) if meant_an_expression or unit_problem is None else unit_problem
+        raise source.error(path, f"{name}: {problem}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
         raise source.error(path, f"{name}: {unit_problem}")
     return Entry(name, unit, None, expression, scope, source, path, bounds, literals=literals,
@@ -390,11 +419,19 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
 def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], source: Located, path: tuple,
                      bounds=None) -> Entry:
     """An array parameter: each element a number, '<number> <unit>' or an expression."""
-    elements, literals = [], {}
+    elements, literals, written = [], {}, []
     for i, item in enumerate(raw):
         single = make_entry(f"{name}[{i}]", item, unit, scope, source, path + (i,))
         elements.append(single.expression if single.expression is not None else single.constant)
         literals.update(single.literals)
+        if single.expression is None and single.dims is not FREE:
+            written.append((i, item, single.dims))
+    for i, item, dims in written[1:]:  # a list holds one quantity: "0.3 bar" beside "0.3 m" is a slip
+        first, first_item, first_dims = written[0]
+        if not dims.same_dimension(first_dims):
+            raise source.error(path + (i,), f"{name}[{i}] = '{item}' is {quantity_name(dims)}, but {name}[{first}] "
+                                            f"= '{first_item}' is {quantity_name(first_dims)}: one list holds one "
+                                            f"quantity")
     if all(not isinstance(e, Expression) for e in elements):
         return Entry(name, unit, tuple(elements), None, scope, source, path, bounds, raw=raw)
     return Entry(name, unit, None, None, scope, source, path, bounds, elements, literals, raw=raw)

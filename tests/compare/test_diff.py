@@ -118,6 +118,17 @@ def test_groups_get_rows_of_their_own(tmp_path, capsys):
     assert "group" in stdout.splitlines()[1]
 
 
+def test_a_reference_column_that_lost_its_unit_is_not_taken_for_groups(tmp_path, capsys):
+    """A user review: 'x' written without its unit became the grouping column, split p into a group per x
+    value and was itself never compared, with no word."""
+    sim = write(tmp_path / "sim.csv", "t [s],x [mm],p [bar]\n0,0,10\n1,100,30\n")
+    ref = write(tmp_path / "ref.csv", "t [s],x,p [bar]\n0.5,50,20\n0.8,80,26\n")
+    code, stdout, stderr = run(capsys, "diff", sim, ref)
+    assert code == 2 and stdout == "" and len(stderr.strip().splitlines()) == 1
+    assert "ref.csv:1:2: column 'x': has no unit, so it only labels groups of points, yet the simulation has a " \
+           "signal 'x': to compare it, write its unit ('x [mm]')" in stderr
+
+
 # ---------------------------------------------------------------- units
 def test_units_are_converted_into_the_references(tmp_path, capsys):
     # simulated in bar and l/min against a reference in Pa, m^3/s and ms

@@ -177,13 +177,14 @@ def test_parse_unit_raises_only_unit_error(text):
 
 def _eval_with_literals(text: str) -> float:
     replaced, literals = substitute_quantities(text)
-    return eval_text(replaced, **{name: value for name, (value, _) in literals.items()})
+    return eval_text(replaced, **{name: value for name, (value, _, _) in literals.items()})
 
 
 def test_quantities_inside_expressions():
     replaced, literals = substitute_quantities("23000 kg + m_payload")
-    (name, (value, unit)), = literals.items()
+    (name, (value, unit, written)), = literals.items()
     assert replaced == f"{name} + m_payload" and value == 23000.0 and unit.dims == parse_unit("kg").dims
+    assert written == "23000 kg"
     assert _eval_with_literals("2*30 cm^3/rev") == pytest.approx(2 * 30e-6 / REV)
     assert _eval_with_literals("3 bar * 2") == pytest.approx(6e5)
 

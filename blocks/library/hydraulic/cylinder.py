@@ -1,6 +1,6 @@
 """Double-acting hydraulic cylinder."""
 
-from blocks.block import Block, Param, State, hydraulic, translational
+from blocks.block import Block, Param, State, hydraulic, signal_out, translational
 from blocks.library.hydraulic.flow import smooth_step
 from blocks.registry import register
 
@@ -12,7 +12,7 @@ class Cylinder(Block):
     V_A = V0_A + A_A*xc,  V_B = V0_B + A_B*(stroke - xc),  xc = min(max(x, 0), stroke)   [m^3]
     q_A = -A_A*v,  q_B = +A_B*v                                                            [m^3/s]
     f_rod = p_A*A_A - p_B*A_B + f_stop                                                     [N]
-    dx/dt = v
+    dx/dt = v,  position = x   [m]   (a signal, for a position controller)
 
     End stops outside [0, stroke]: with penetration d (= -x below 0, x - stroke above the stroke),
     f_stop = +-(k_stop*d) - c_stop*v*smooth_step(d, 0, dx_stop), the spring pushing back into the
@@ -28,6 +28,7 @@ class Cylinder(Block):
         hydraulic("A", "piston-side chamber", stores=True),
         hydraulic("B", "rod-side chamber", stores=True),
         translational("rod", "piston rod (v > 0 extends)"),
+        signal_out("position", "piston position x from the retracted end (the state)", "m"),
     )
     params = (
         Param("A_A", "m^2", None, 0.0, 10.0, "piston-side effective area"),
@@ -40,6 +41,18 @@ class Cylinder(Block):
         Param("dx_stop", "m", 1e-4, 0.0, 1.0, "penetration over which the end-stop damping fades in (regularisation width)"),
     )
     states = (State("x", "m", 0.0, 0.1, "piston position from the retracted end"),)
+
+    @classmethod
+    def check_values(cls, values: dict) -> str | None:
+        start, stroke = values.get("initial.x", 0.0), values["stroke"]
+        if not 0.0 <= start <= stroke:
+            return (f"initial x = {start * 1e3:g} mm is outside the stroke [0, {stroke * 1e3:g} mm]: the piston would "
+                    f"start inside an end stop")
+        return None
+
+    @staticmethod
+    def outputs(x):
+        return (x,)
 
     @staticmethod
     def derivatives(A, B, rod, x, A_A, A_B, stroke, V0_A, V0_B, k_stop, c_stop, dx_stop):

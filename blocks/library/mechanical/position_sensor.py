@@ -10,7 +10,9 @@ class PositionSensor(Block):
 
     dx/dt = v_port,  position = x   [m],  f_port = 0
 
-    The initial position x0 is the start value of the state ``x`` (default 0).
+    The initial position x0 is the start value of the state ``x`` (default 0): it is this sensor's own and
+    must agree with the body's. A cylinder's piston position is the cylinder's own ``position`` output,
+    which has no second start to keep in step.
     """
 
     ports = (translational("port", "the measured body net"), signal_out("position", "measured position", "m"))

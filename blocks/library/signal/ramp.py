@@ -12,14 +12,16 @@ class Ramp(Block):
     duration > 0:  y = y0 + (y1 - y0)*(t - t_start)/duration on [t_start, t_start + duration],
                    y0 before, held at y1 after (slope ignored)
 
-    Units: t_start and duration in s, slope in signal units per s; y0, y1 and y in the (SI) unit of the signal.
+    Units: t_start and duration in s; y0, y1 and y in the (SI) unit of the signal; slope in that unit per s
+    (written with its unit it is converted to SI, "100 mm/s" to 0.1, "30 rpm/s" to 3.14; its dimension is
+    not checked, the signal's being generic).
     """
 
     ports = (signal_out("y", "the ramp signal"),)
     params = (
         Param("t_start", "s", 0.0, None, None, "time the ramp starts"),
         Param("y0", "SI", 0.0, None, None, "value before the ramp starts (SI)"),
-        Param("slope", "1/s", 1.0, None, None, "slope of the unbounded ramp (used when duration = 0)"),
+        Param("slope", "SI", 1.0, None, None, "slope of the unbounded ramp, SI signal units per s (100 mm/s, 0.1)"),
         Param("duration", "s", 0.0, 0.0, None, "ramp time to reach y1, then hold; 0: unbounded ramp at slope"),
         Param("y1", "SI", 1.0, None, None, "final value reached after duration (used when duration > 0)"),
     )
