@@ -22,8 +22,9 @@ import numpy as np
 
 from blocks.block import PortKind
 from blocks.compiler.codegen import Generator, OutputExpr
-from blocks.compiler.structure import Structure, analyse, jacobian_pattern
+from blocks.compiler.structure import Structure, analyse, bulk_modulus_name, cavitation, jacobian_pattern
 from blocks.errors import NetlistError, SimulationError
+from blocks.library.hydraulic.cavitation import cavity_fraction
 from blocks.netlist.flatten import FlatCircuit, flatten
 from blocks.netlist.yaml_source import shown_key
 from blocks.result import Result, column_name_problem
@@ -221,7 +222,11 @@ class Circuit:
                 f"{outcome.t[k]:.4g} s, beyond any hydraulic pressure (over {P_BEYOND / 1e5:g} bar)")
 
     def _cavitation(self, outcome, vec: Vectors) -> list[str]:
+        """A line for each pressure state that fell below the vapour pressure. With the cavitation law on
+        (blocks.library.hydraulic.cavitation) a net's is a vapour cavity, said with its largest size; a
+        block's own pressure node, or any net with the law off, went into a tension oil cannot carry."""
         p_vap = vec.values["fluid.vapour_pressure"]
+        modelled = cavitation(self.structure)
         found = []
         for net, slot in self._pressures():
             low = outcome.x_min[slot.index]
@@ -229,8 +234,17 @@ class Circuit:
                 column = outcome.X[:, slot.index]
                 below = np.nonzero(column < p_vap)[0]
                 when = f" first seen at t = {outcome.t[below[0]]:.4g} s" if below.size else " between output samples"
-                found.append(f"cavitation: {self._pressure_name(net)} fell to {low / 1e5:.3g} bar, below the "
-                             f"vapour pressure {p_vap / 1e5:.3g} bar,{when}")
+                if modelled and net in self.structure.net_state:
+                    beta = vec.values[bulk_modulus_name(self.structure, net)]
+                    found.append(f"cavitation: {self._pressure_name(net)} reached the vapour pressure "
+                                 f"{p_vap / 1e5:.3g} bar{when}; a vapour cavity of up to "
+                                 f"{100 * cavity_fraction(low, beta, p_vap):.3g} % of its oil volume formed there "
+                                 f"(modelled: fluid cavitation)")
+                else:
+                    found.append(f"cavitation: {self._pressure_name(net)} fell to {low / 1e5:.3g} bar, below the "
+                                 f"vapour pressure {p_vap / 1e5:.3g} bar,{when}" + (
+                                     "" if modelled else " (fluid cavitation: false, so that pressure is a "
+                                     "tension the oil cannot carry)"))
         return found
 
     def _failure_message(self, outcome, vec: Vectors) -> str:

@@ -50,7 +50,14 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Fluid", "beta"): "Bulk modulus [Pa]: the stiffness of the oil in every hydraulic net that does not set "
                        "its own `bulk_modulus`.",
     ("Fluid", "vapour_pressure"): "Vapour pressure [Pa], gauge: a net whose pressure falls below it is "
-                                  "reported as cavitating (a warning after the run).",
+                                  "reported as cavitating (a warning after the run). Top-level netlist only.",
+    ("Fluid", "cavitation"): "`true` (the default): a net drawn down to the vapour pressure holds a vapour "
+                             "cavity, which the oil flowing back fills before the pressure rises again; "
+                             "below the vapour pressure the net's bulk modulus gives way to the cavity's, 1 "
+                             "bar per net volume of vapour (`blocks/library/hydraulic/cavitation.py`). "
+                             "`false`: the liquid's bulk modulus at every pressure (the thesis's Simulink "
+                             "model), so a net drawn empty goes into a tension oil cannot carry. Top-level "
+                             "netlist only; blocks' own internal nodes are not affected.",
     ("Defaults", "volume"): "Volume [m^3] of every hydraulic net that neither sets `volume:` nor has a block "
                             "storing oil on it (without it such a net is an error).",
     ("Component", "type"): "The block type: one of the names in [Blocks](#blocks).",
@@ -62,8 +69,11 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Component", "initial"): "Start values of the block's scalar states by name (array states start at their "
                               "default).",
     ("Subsystem", "netlist"): "The netlist file, relative to this file's folder.",
-    ("Subsystem", "parameters"): "Overrides of that file's `parameters:`; the values are read in this file's "
-                                 "scope (they may use this file's parameter names).",
+    ("Subsystem", "parameters"): "Overrides of that file's `parameters:` (`m_load: ...`), of a component's "
+                                 "parameter inside it (`valve.A_max: ...`, as `--set` names it) or, through "
+                                 "a subsystem of it, of anything that one takes (`lift.valve.Cd: ...`); the "
+                                 "values are read in this file's scope (they may use this file's parameter "
+                                 "names), and the outermost file's word is the last.",
     ("Net", "ports"): "The ports the net joins: `<component>.<port>` or `<subsystem>.<exposed port>`.",
     ("Net", "volume"): "Hydraulic nets: the oil volume of the node [m^3], added to what blocks store on it.",
     ("Net", "bulk_modulus"): "Hydraulic nets: the node's bulk modulus [Pa] (default: `fluid.beta`).",
@@ -195,6 +205,8 @@ def _shape(annotation) -> str:
         return "value"
     if annotation is str:
         return "text"
+    if annotation is bool:
+        return "true or false"
     if annotation is float:
         return "number"
     if annotation is int:
@@ -228,6 +240,8 @@ def _default(field) -> str:
         return "-"
     if field.default == "":
         return '`""`'
+    if isinstance(field.default, bool):
+        return f"`{str(field.default).lower()}`"
     return f"`{field.default}`" if isinstance(field.default, str) else f"`{field.default:g}`" \
         if isinstance(field.default, float) else f"`{field.default}`"
 

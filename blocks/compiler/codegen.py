@@ -4,7 +4,8 @@ The generated module holds two functions over the flat vectors (x: states, th: p
 
 - ``rhs(t, x, th, dx)``: across variables from the states, then every block's ``outputs`` in the
   evaluation order (signals, prescribed pressures and speeds), then every block's ``derivatives``,
-  summed per node: dp/dt = beta/(V_net + sum V_port) * sum q for a hydraulic node, and
+  summed per node: dp/dt = beta/(V_net + sum V_port) * sum q for a hydraulic node (beta the bulk modulus,
+  or below the vapour pressure the cavity's, blocks.library.hydraulic.cavitation), and
   dw/dt = sum(r_k*tau_k) / sum(r_k^2*J_k) for a rigid body.
 - ``observe(t, x, th, y)``: the same first two steps, then the logged signals.
 
@@ -19,8 +20,9 @@ import inspect
 from dataclasses import dataclass
 from pathlib import Path
 
+import blocks.library.hydraulic.cavitation  # noqa: F401  (in the library digest: the node law)
 from blocks.block import ACROSS, THROUGH, PortKind
-from blocks.compiler.structure import Structure, bulk_modulus_name
+from blocks.compiler.structure import Structure, bulk_modulus_name, cavitation
 
 
 @dataclass
@@ -123,6 +125,9 @@ class Generator:
     def header(self) -> list[str]:
         lines = [f"# block library version {library_digest()} (any edit of a block or helper module changes "
                  f"this file's name, and so numba's cache)"]
+        if cavitation(self.st):
+            lines.append("from blocks.library.hydraulic.cavitation import cavitating_bulk_modulus as "
+                         "_cavitating_bulk_modulus")
         for cls, k in self.classes.items():
             module = inspect.getmodule(cls)
             lines.append(f"from {module.__name__} import {cls.__name__} as _K{k}")
@@ -197,7 +202,10 @@ class Generator:
                 k += 1
         for net, slot in st.net_state.items():
             j = self.net_index[net]
-            lines.append(f"dx[{slot.index}] = {self.theta(bulk_modulus_name(st, net))} / V_n{j} * q_n{j}")
+            beta = self.theta(bulk_modulus_name(st, net))
+            if cavitation(st):
+                beta = f"_cavitating_bulk_modulus(x[{slot.index}], {beta}, {self.theta('fluid.vapour_pressure')})"
+            lines.append(f"dx[{slot.index}] = {beta} / V_n{j} * q_n{j}")
         for k, body in enumerate(st.bodies):
             if body.state is not None:
                 lines.append(f"dx[{body.state.index}] = F_b{k} / M_b{k}")

@@ -241,7 +241,7 @@ def _theta_layout(st: Structure) -> None:
     """Every parameter-table entry the equations read gets a slice of theta."""
     entries = st.circuit.parameters.entries
     values = st.circuit.parameters.evaluate()  # also checks every default once
-    names = ["fluid.beta"]
+    names = ["fluid.beta"] + (["fluid.vapour_pressure"] if cavitation(st) else [])
     for name, comp in st.circuit.components.items():
         names += [f"{name}.{p.name}" for p in comp.cls.params]
     for net in st.net_state:
@@ -253,6 +253,11 @@ def _theta_layout(st: Structure) -> None:
         st.theta_index[name] = (offset, offset + size)
         offset += size
     st.theta_size = offset
+
+
+def cavitation(st: Structure) -> bool:
+    """Whether the nets' pressure equation holds a vapour cavity (blocks.library.hydraulic.cavitation)."""
+    return bool(st.circuit.netlist.fluid.cavitation)
 
 
 def bulk_modulus_name(st: Structure, net: str) -> str:

@@ -146,7 +146,7 @@ def flatten(file: str | Path) -> FlatCircuit:
     netlist = _load_spec(located)
     builder = _Builder()
     fluid = builder.add_fluid(netlist, located)
-    builder.add_netlist(netlist, located, prefix="", overrides={}, override_scope={},
+    builder.add_netlist(netlist, located, prefix="", overrides={},
                         stack=(str(Path(file).resolve()),), fluid=fluid, default_volume=None)
     if not builder.components:
         raise _no_components(located)
@@ -201,9 +201,10 @@ class _Builder:
             keys = list(FLUID_BOUNDS)
         else:
             keys = [k for k in netlist.fluid.model_fields_set if k in FLUID_BOUNDS]
-            if "vapour_pressure" in keys:
-                raise located.error(("fluid", "vapour_pressure"), "the vapour pressure is set by the top-level "
-                                    "netlist only (it decides what counts as cavitation everywhere)")
+            for key, what in (("vapour_pressure", "the vapour pressure"), ("cavitation", "fluid cavitation")):
+                if key in netlist.fluid.model_fields_set:
+                    raise located.error(("fluid", key), f"{what} is set by the top-level netlist only (it "
+                                        f"decides what counts as cavitation everywhere)")
         names = dict(parent or {})
         for key in keys:
             name = f"{prefix}fluid.{key}"
@@ -213,7 +214,13 @@ class _Builder:
         return names
 
     def add_netlist(self, netlist: spec.Netlist, located: Located, prefix: str, overrides: dict,
-                    override_scope: dict, stack: tuple, fluid: dict[str, str], default_volume) -> None:
+                    stack: tuple, fluid: dict[str, str], default_volume) -> None:
+        """Add one file's parameters, components, subsystems and nets under ``prefix``.
+
+        ``overrides`` are what the file using this one (as a subsystem) sets, by name: each
+        ``(raw, source, path, scope)``, read in the scope of the file that wrote it. A name is one of this
+        file's parameters, ``<component>.<parameter>`` of a component in it (as ``--set`` takes it), or
+        ``<subsystem>.<name>``, passed on to a subsystem of this file."""
         for name in netlist.parameters:
             if not name.isidentifier() or name in RESERVED or name.startswith("_"):
                 raise located.error(("parameters", name), f"'{name}' cannot be a parameter name (a name is letters, "
@@ -224,20 +231,29 @@ class _Builder:
             default_volume = (netlist.defaults.volume, located, scope)
         for name, raw in netlist.parameters.items():
             if name in overrides:
-                raw_value, over_source, over_path = overrides[name]
-                self.table.add(make_entry(prefix + name, raw_value, None, override_scope, over_source, over_path))
+                raw_value, over_source, over_path, over_scope = overrides[name]
+                self.table.add(make_entry(prefix + name, raw_value, None, over_scope, over_source, over_path))
             else:
                 self.table.add(make_entry(prefix + name, raw, None, scope, located, ("parameters", name)))
-        for name in overrides:
-            if name not in netlist.parameters:
-                _, over_source, over_path = overrides[name]
-                hint = nearest(name, netlist.parameters)
-                raise over_source.error(over_path, f"'{name}' is not a parameter of {located.file}"
-                                        + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+        inner: dict[str, dict] = {}  # component or subsystem name -> its overrides
+        for name, override in overrides.items():
+            head, dot, rest = name.partition(".")
+            if name in netlist.parameters:
+                continue
+            if dot and (head in netlist.subsystems or (head in netlist.components and "." not in rest)):
+                inner.setdefault(head, {})[rest] = override
+                continue
+            _, over_source, over_path, _ = override
+            known = registry.all_types()
+            hint = nearest(name, list(netlist.parameters) + [f"{c}.{p.name}" for c, comp in netlist.components.items()
+                                                             if comp.type in known for p in known[comp.type].params])
+            raise over_source.error(over_path, f"'{name}' is not a parameter of {located.file} (nor "
+                                    f"'<component>.<parameter>' of a component in it)"
+                                    + (f"; did you mean {', '.join(hint)}?" if hint else ""))
         for name, comp in netlist.components.items():
-            self._add_component(prefix, name, comp, located, scope)
+            self._add_component(prefix, name, comp, located, scope, inner.get(name, {}))
         for name, sub in netlist.subsystems.items():
-            self._add_subsystem(prefix, name, sub, located, scope, stack, fluid, default_volume)
+            self._add_subsystem(prefix, name, sub, located, scope, stack, fluid, default_volume, inner.get(name, {}))
         for name, net in netlist.nets.items():
             qualified = prefix + name
             if qualified in self.components or qualified in self.net_names or qualified in self.subsystem_names:
@@ -270,7 +286,8 @@ class _Builder:
         for exposed, ref in netlist.ports.items():
             self.aliases[prefix + exposed] = prefix + ref
 
-    def _add_component(self, prefix: str, name: str, comp: spec.Component, located: Located, scope: dict) -> None:
+    def _add_component(self, prefix: str, name: str, comp: spec.Component, located: Located, scope: dict,
+                       overrides: dict) -> None:
         qualified = prefix + name
         path = ("components", name)
         if qualified in self.components:
@@ -291,26 +308,35 @@ class _Builder:
                 raise located.error(path + ("params", key), f"{name}: '{key}' is not a parameter of {comp.type}"
                                     + (f" (did you mean {', '.join(hint)}?)" if hint else
                                        f" (its parameters: {', '.join(declared) or 'none'})"))
-        given = {key: (raw, path + ("params", key)) for key, raw in comp.params.items()}
+        for key, (_, over_source, over_path, _) in overrides.items():
+            if key not in declared:
+                hint = nearest(key, declared)
+                raise over_source.error(over_path, f"'{name}.{key}': '{key}' is not a parameter of {comp.type}"
+                                        + (f" (did you mean {', '.join(hint)}?)" if hint else
+                                           f" (its parameters: {', '.join(declared) or 'none'})"))
+        # each value given: (raw, path, file, scope), the file and scope it is read in
+        given = {key: (raw, path + ("params", key), located, scope) for key, raw in comp.params.items()}
         if comp.preset is not None:
             if comp.preset not in cls.presets:
                 choices = ", ".join(cls.presets) or "none"
                 raise located.error(path + ("preset",), f"{name}: {comp.type} has no preset '{comp.preset}' "
                                     f"(its presets: {choices})")
             for key, raw in cls.presets[comp.preset].items():
-                given.setdefault(key, (raw, path + ("preset",)))
+                given.setdefault(key, (raw, path + ("preset",), located, scope))
+        given.update({key: (raw, over_path, over_source, over_scope)  # the using file's word is the last
+                      for key, (raw, over_source, over_path, over_scope) in overrides.items()})
         for param in cls.params:
             entry_name = f"{qualified}.{param.name}"
             if param.name in given:
-                raw, ppath = given[param.name]
+                raw, ppath, source, read_scope = given[param.name]
                 if param.array:
-                    entry = self._array_entry(entry_name, raw, param, located, ppath, name, scope)
+                    entry = self._array_entry(entry_name, raw, param, source, ppath, name, read_scope)
                     flat.array_lengths[param.name] = len(entry.elements or entry.constant)
                     self.table.add(entry)
                     continue
                 if isinstance(raw, (list, spec.CsvColumn)):
-                    raise located.error(ppath, f"{name}: {param.name} takes a single value, not a list")
-                self.table.add(make_entry(entry_name, raw, param.unit, scope, located, ppath, param))
+                    raise source.error(ppath, f"{name}: {param.name} takes a single value, not a list")
+                self.table.add(make_entry(entry_name, raw, param.unit, read_scope, source, ppath, param))
             elif param.fluid is not None:
                 self.table.add(make_entry(entry_name, f"fluid_{param.fluid}", param.unit, scope, located, path, param))
             elif param.default is not None:
@@ -346,7 +372,9 @@ class _Builder:
         return make_array_entry(entry_name, raw, param.unit, scope, located, path, param)
 
     def _add_subsystem(self, prefix: str, name: str, sub: spec.Subsystem, located: Located, scope: dict,
-                       stack: tuple, fluid: dict[str, str], default_volume) -> None:
+                       stack: tuple, fluid: dict[str, str], default_volume, passed: dict) -> None:
+        """Expand a subsystem; its ``parameters:`` (read in this file's ``scope``) and what the file using
+        this one ``passed`` on to it set values inside it (:meth:`add_netlist`)."""
         path = ("subsystems", name)
         qualified = prefix + name
         if qualified in self.components:
@@ -364,10 +392,11 @@ class _Builder:
                 raise located.error(path + ("netlist",), f"subsystem '{name}': {sub.netlist}: {exc.message}") from None
             raise
         inner = _load_spec(inner_located)
-        overrides = {k: (v, located, path + ("parameters", k)) for k, v in sub.parameters.items()}
+        overrides = {k: (v, located, path + ("parameters", k), scope) for k, v in sub.parameters.items()}
+        overrides.update(passed)  # the outer file's word is the last
         self.components[qualified] = None  # reserve the name
         inner_fluid = self.add_fluid(inner, inner_located, qualified + ".", fluid)
-        self.add_netlist(inner, inner_located, qualified + ".", overrides, scope, stack + (resolved,), inner_fluid,
+        self.add_netlist(inner, inner_located, qualified + ".", overrides, stack + (resolved,), inner_fluid,
                          default_volume)
         del self.components[qualified]
         self.subsystem_names.add(qualified)

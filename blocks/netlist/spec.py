@@ -64,6 +64,7 @@ class Fluid(Strict):
     nu: Value = "1.8e-5 m^2/s"
     beta: Value = "8e8 Pa"
     vapour_pressure: Value = Field("-1 bar", description="gauge; a node below it is reported as cavitating")
+    cavitation: bool = Field(True, description="a net drawn below the vapour pressure holds a vapour cavity")
 
 
 class Defaults(Strict):

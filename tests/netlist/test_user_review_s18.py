@@ -122,3 +122,65 @@ simulation: {t_end: "0.01 s"}
 """
     units = dict(zip(circuit(tmp_path, text=text).simulate().names, circuit(tmp_path, text=text).simulate().display_units))
     assert units["x"] == "1" and units["A"] == "bar"
+
+
+PART = """
+parameters:
+  A_line: "1 l"
+ports: {P: valve.P, T: valve.T}
+components:
+  cmd:   {type: constant, params: {value: 0.5}}
+  valve: {type: valve_4_3, params: {A_max: "10 mm^2"}}
+nets:
+  x: [cmd.y, valve.x]
+  A: {ports: [valve.A], volume: A_line}
+  B: {ports: [valve.B], volume: A_line}
+"""
+MIDDLE = """
+ports: {P: lift.P, T: lift.T}
+subsystems:
+  lift: {netlist: part.yaml, parameters: {valve.A_max: "20 mm^2"}}
+nets: {}
+"""
+TOP = """
+parameters:
+  A_big: "15 mm^2"
+subsystems:
+  left:  {netlist: part.yaml, parameters: {valve.A_max: "2*A_big", A_line: "2 l"}}
+  right: {netlist: middle.yaml, parameters: {lift.valve.Cd: 0.6}}
+  deep:  {netlist: middle.yaml, parameters: {lift.valve.A_max: "40 mm^2"}}
+components:
+  src:  {type: pressure_source, params: {p: "100 bar"}}
+  tank: {type: tank}
+nets:
+  P: [src.port, left.P, right.P, deep.P]
+  T: [tank.port, left.T, right.T, deep.T]
+"""
+
+
+def subsystems(tmp_path: Path, top: str = TOP) -> Circuit:
+    for name, text in (("part.yaml", PART), ("middle.yaml", MIDDLE), ("top.yaml", top)):
+        (tmp_path / name).write_text(text)
+    return Circuit.from_file(tmp_path / "top.yaml", compile=False)
+
+
+def test_a_subsystem_sets_a_parameter_of_a_component_inside_it_as_set_does(tmp_path):
+    """'dcv.A_max' under a subsystem's parameters: was refused, though --set heavy.dcv.A_max took it."""
+    values = subsystems(tmp_path).vectors().values
+    assert values["left.valve.A_max"] == pytest.approx(30e-6)  # read in the using file's scope: 2*A_big
+    assert values["left.A.volume"] == pytest.approx(2e-3)
+    assert values["right.lift.valve.A_max"] == pytest.approx(20e-6)  # the middle file's word
+    assert values["right.lift.valve.Cd"] == pytest.approx(0.6)  # passed on through the middle file
+    assert values["deep.lift.valve.A_max"] == pytest.approx(40e-6)  # the outer file's word is the last
+
+
+@pytest.mark.parametrize("key, words", [
+    ("valve.A_mx", "'valve.A_mx': 'A_mx' is not a parameter of valve_4_3 (did you mean A_max?)"),
+    ("valv.A_max", "'valv.A_max' is not a parameter of"),
+    ("A_lin", "did you mean A_line?"),
+])
+def test_a_subsystem_override_that_names_nothing_is_refused_where_written(tmp_path, key, words):
+    top = TOP.replace("valve.A_max: \"2*A_big\"", f"{key}: \"2*A_big\"")
+    with pytest.raises(VphsError) as caught:
+        subsystems(tmp_path, top)
+    assert "top.yaml:5:" in str(caught.value) and words in str(caught.value)
