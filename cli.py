@@ -381,6 +381,7 @@ def cmd_docs(args) -> int:
 
 def cmd_optimise(args, sweep: bool = False) -> int:
     """vphs optimise|sweep JOB: evaluations logged as they finish; a report at the end (blocks.optimise)."""
+    from blocks.optimise.executors import EvaluationLost
     from blocks.optimise.job import load_job
     from blocks.optimise.runner import Interrupted, run_optimise, run_sweep
 
@@ -397,10 +398,11 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         summary = (run_sweep if sweep else run_optimise)(job, resume=args.resume, workers=args.workers,
                                                          scheduler=args.scheduler, quiet=args.quiet)
     except Interrupted as stop:
-        s = stop.summary
-        print(f"vphs: interrupted; {s.total} evaluations are in {s.folder}; continue with: "
-              f"vphs {args.command} {args.job} --resume", file=sys.stderr)
+        _say(f"vphs: interrupted; {_resume_hint(args, stop.summary)}")
         return 130
+    except EvaluationLost as lost:  # the cluster's fault, not the design's: nothing was logged as failed
+        _say(f"vphs: {lost}; {_resume_hint(args, lost.summary)}")
+        return EXIT_FAILED
     if summary.above_penalty:
         print(f"vphs: warning: {summary.above_penalty} working designs cost more than a failed simulation's "
               f"penalty ({summary.job.penalty:g}); raise cost.penalty in the job", file=sys.stderr)
@@ -414,6 +416,11 @@ def cmd_optimise(args, sweep: bool = False) -> int:
               f"{summary.seconds:.1f} s; best cost {summary.best['cost']:.6g} at {best}; report {summary.report}",
               file=sys.stderr)
     return 0
+
+
+def _resume_hint(args, summary) -> str:
+    return (f"{summary.total} evaluations are in {summary.folder}; continue with: "
+            f"vphs {args.command} {args.job} --resume")
 
 
 def cmd_calibrate(args) -> int:

@@ -31,7 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.optimise.complex import ComplexSettings, complex_minimise
-from blocks.optimise.executors import make_executor
+from blocks.optimise.executors import EvaluationLost, make_executor
 from blocks.optimise.job import Job
 from blocks.optimise.log import EvaluationLog, point_id
 from blocks.optimise.scipy_methods import differential_evolution, nelder_mead
@@ -256,7 +256,9 @@ def run_sweep(job: Job, resume: bool = False, workers: int | None = None, schedu
 @contextlib.contextmanager
 def _running(executor, log, progress, summary: Summary):
     """Times the job's evaluations into ``summary.seconds`` and closes the executor, the log and the
-    progress line however the job ends; Ctrl-C becomes :class:`Interrupted` (the summary so far)."""
+    progress line however the job ends; Ctrl-C becomes :class:`Interrupted` (the summary so far), and
+    an evaluation the cluster lost (:class:`~blocks.optimise.executors.EvaluationLost`) gets the summary
+    so far as its ``summary``."""
     started = time.perf_counter()
     interrupted = False
     try:
@@ -264,6 +266,10 @@ def _running(executor, log, progress, summary: Summary):
     except KeyboardInterrupt:
         interrupted = True
         summary.reason = "interrupted"
+    except EvaluationLost as exc:
+        summary.reason = "an evaluation lost by the cluster"
+        exc.summary = summary
+        raise
     finally:
         summary.seconds = time.perf_counter() - started
         try:
