@@ -193,6 +193,7 @@ class Job:
     sweep_names: list[str] = field(default_factory=list)
     sweep_points: list[dict[str, float]] = field(default_factory=list)
     fingerprint: str = ""
+    sources: dict[str, str] = field(default_factory=dict)  # every file the circuit is built from -> a digest
     start_values: dict[str, float] = field(default_factory=dict)  # the netlist's values of the free parameters
     units: dict[str, str] = field(default_factory=dict)  # parameter name -> unit for reports
     sweep_combine: str = "grid"
@@ -307,6 +308,12 @@ _ALL_FIELDS = {name for m in (JobFile, CostSpec, SweepSpec, SweepRange, TermSpec
                for name in m.model_fields}
 
 
+def source_digests(files: list[str]) -> dict[str, str]:
+    """File -> digest of its bytes, for every file a circuit is built from (``FlatCircuit.files``: the
+    netlist, its subsystem files, its data files); ``--resume`` refuses a log when one of them changed."""
+    return {file: hashlib.sha256(Path(file).read_bytes()).hexdigest()[:16] for file in files}
+
+
 def _dimension(output):
     """The dimension of a logged signal: its SI unit, or for a generic signal block the unit a port on its
     net declares (:class:`blocks.circuit.ResolvedOutput`), else the netlist's display unit
@@ -368,6 +375,7 @@ class _Resolver:
             sweep_combine=m.sweep.combine if m.sweep else "grid",
         )
         job.fingerprint = self.fingerprint(netlist)
+        job.sources = source_digests(self.circuit.flat.files)
         return job
 
     def output(self, name: str) -> Path:

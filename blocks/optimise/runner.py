@@ -172,10 +172,11 @@ def _open(job: Job, command: str, folder: Path, resume: bool, workers, scheduler
     """Check the output folder's log, start the executor, open the log (``header_extra(executor, old_header)``
     gives the method's entries of a new header)."""
     fingerprint = f"{job.fingerprint}-{command}"
-    old = EvaluationLog.existing(folder, fingerprint, resume)  # refuses a foreign log before any worker starts
+    old = EvaluationLog.existing(folder, fingerprint, resume, job.sources)  # a foreign log, before any worker starts
     executor = make_executor(job.spec(), workers or job.workers, scheduler or job.scheduler, client)
     header = {"type": "job", "fingerprint": fingerprint, "job": str(job.file), "name": job.name,
-              "command": command, "netlist": job.netlist, "seed": job.seed, **header_extra(executor, old)}
+              "command": command, "netlist": job.netlist, "seed": job.seed, "sources": job.sources,
+              **header_extra(executor, old)}
     try:
         log = EvaluationLog(folder, header)
     except BaseException:
