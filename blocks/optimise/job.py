@@ -227,6 +227,13 @@ class Job:
             z.append(min(max(zi, 0.0), 1.0))
         return np.array(z)
 
+    def netlist_design_outside(self) -> str:
+        """Why the netlist's own design (its values of the free parameters) is not a design of the job: the
+        values outside the bounds, as a phrase; "" if it lies within them."""
+        outside = [f"{p.name} = {self.start_values[p.name]:g} is outside [{p.lower:g}, {p.upper:g}]"
+                   + (f" {p.unit}" if p.unit else "") for p in self.free if not p.lower <= self.start_values[p.name] <= p.upper]
+        return "; ".join(outside)
+
     def spec(self):
         from blocks.optimise.evaluate import EvalSpec
 

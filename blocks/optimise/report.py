@@ -9,6 +9,8 @@ per load case the ``vphs run`` command line that simulates the best design again
 had the fixed values and the load case's, so the report gives the whole command line.
 The report covers the method's path only (:mod:`blocks.optimise.runner`): candidates evaluated ahead and
 discarded are counted, not shown.
+Beside the best, the report gives the cost of the netlist's own design (evaluated first, off the path) and
+warns when the best found is not better than it (:func:`netlist_comparison`, also on the console).
 Sweep (``<output>/sweep/``): ``report.md`` with the table of every point, ``sweep.csv`` and ``sweep.png``
 (the cost and each term against the parameter; a map of the cost over a two-parameter grid).
 
@@ -108,6 +110,27 @@ def run_commands(job, parameters: dict) -> dict[str, str]:
     return commands
 
 
+def netlist_comparison(summary) -> tuple[str, bool]:
+    """The netlist's own design against the best found, as one sentence, and whether it is a warning (the
+    best found is not better, or the netlist's design could not be compared)."""
+    job, best, start = summary.job, summary.best, summary.netlist_design
+    if summary.netlist_skipped:
+        return f"the netlist's own design was not evaluated: {summary.netlist_skipped}", False
+    if start is None:
+        return "", False
+    if start["status"] != "ok":
+        return f"the netlist's own design failed ({start.get('error')})", False
+    if best is None:
+        return f"the netlist's own design costs {_fmt(start['cost'])}; no design of the method worked", True
+    if best["cost"] >= start["cost"]:
+        return (f"the best design found (cost {_fmt(best['cost'])}) is NOT better than the netlist's own design "
+                f"(cost {_fmt(start['cost'])}): keep the netlist's values, or give the method more evaluations "
+                f"or other bounds"), True
+    return (f"the netlist's own design costs {_fmt(start['cost'])}; the best found is "
+            f"{_fmt(100 * (1 - best['cost'] / start['cost']), 3)} % lower" if start["cost"] > 0 else
+            f"the netlist's own design costs {_fmt(start['cost'])}"), False
+
+
 def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     job, best = summary.job, summary.best
     s = job.settings
@@ -128,6 +151,10 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
              ""]
+    comparison, warn = netlist_comparison(summary)
+    if comparison:
+        sentence = comparison[0].upper() + comparison[1:] + "."
+        lines += [f"**Warning:** {sentence}" if warn else sentence, ""]
     if summary.above_penalty:
         lines += [f"**Warning:** {summary.above_penalty} working designs cost more than the penalty of a failed "
                   f"simulation ({_fmt(job.penalty)}), so failures ranked as better than they; raise cost.penalty.", ""]

@@ -10,6 +10,12 @@ given the seed, the batching and the costs, the resumed run retraces the interru
 on from where it stopped; the batching (``candidates`` of the Complex method) is taken from the log's
 header, not from the number of workers of the resumed run.
 
+Before the method starts, ``optimise`` evaluates the netlist's own design (its values of the free
+parameters, with the job's fixed values and load cases) once, as evaluation 0 of the log (step
+"netlist"), so that the report can say whether the method found better; it is off the method's path (not
+counted in its budget nor in its result). A netlist value outside the job's bounds is not a design of the
+job: it is then not evaluated, and the report says why.
+
 The result (the best design, the evaluations counted, the failures) is taken over the method's path only:
 the Complex method evaluates retractions ahead in parallel and discards those it turns out not to need
 (:mod:`blocks.optimise.complex`); they stay in the log, marked discarded, but are left out of the summary,
@@ -57,6 +63,8 @@ class Summary:
     replayed: int = 0  # answered from the log (on the path or not)
     failed: int = 0  # on the path
     best: dict | None = None  # on the path
+    netlist_design: dict | None = None  # the record of the netlist's own design (evaluated first, off the path)
+    netlist_skipped: str = ""  # why the netlist's own design was not evaluated (a value outside the bounds)
     reason: str = ""
     seconds: float = 0.0
     iterations: int = 0
@@ -92,7 +100,7 @@ class Progress:
         self.last = now
         elapsed = now - self.started
         rate = s.evaluated / elapsed if elapsed > 0 else 0.0
-        kept = s.total - len(s.discarded)  # on the path, or in a batch not yet decided
+        kept = s.total - len(s.discarded) - (s.netlist_design is not None)  # on the path, or not yet decided
         done = f"{kept}/{self.total}" if self.total else f"{kept}"
         best = f"{s.best['cost']:.6g}" if s.best else "-"
         notes = [f"{n} {what}" for n, what in ((len(s.discarded), "more discarded"), (s.replayed, "from the log")) if n]
@@ -118,7 +126,8 @@ class Runner:
         self.next_index = 0
         self.batch: list[dict] = []  # the last batch's records, until the method says which are on its path
 
-    def __call__(self, points: list, info: list[dict]) -> list[float]:
+    def __call__(self, points: list, info: list[dict], designs: list[dict] | None = None) -> list[float]:
+        """The costs of ``points`` (``designs``: their SI values, if not ``to_design`` of the points)."""
         self.on_path()  # a method that said nothing about its last batch used all of it
         first, self.next_index = self.next_index, self.next_index + len(points)
         batch: list[dict | None] = [None] * len(points)
@@ -131,7 +140,7 @@ class Runner:
             else:
                 todo.append(pos)
         if todo:
-            designs = [self.to_design(points[pos]) for pos in todo]
+            designs = [designs[pos] if designs else self.to_design(points[pos]) for pos in todo]
             for k, outcome in self.executor.run(designs):
                 pos = todo[k]
                 x = [float(v) for v in points[pos]]
@@ -143,6 +152,13 @@ class Runner:
                 self.progress.show(self.summary)
         self.batch = batch
         return [record["cost"] for record in batch]
+
+    def aside(self, z, design: dict, step: str) -> dict:
+        """One evaluation off the method's path (the netlist's own design): logged and answered from the log
+        on ``--resume`` like any other, never part of the result; its record."""
+        self([z], [{"step": step, "iteration": 0, "n_rep": 0}], [design])
+        record, self.batch = self.batch[0], []
+        return record
 
     def on_path(self, used: int | None = None) -> None:
         """The first ``used`` points of the last batch (all if None) are on the method's path: they make the
@@ -211,6 +227,9 @@ def run_optimise(job: Job, resume: bool = False, workers: int | None = None, sch
     progress = Progress(budget, not quiet, stream)
     runner = Runner(job, log, executor, summary, progress, job.values)
     with _running(executor, log, progress, summary):
+        summary.netlist_skipped = job.netlist_design_outside()
+        if not summary.netlist_skipped:  # first: in the log (index 0) and resumed like the method's points
+            summary.netlist_design = runner.aside(job.coordinates(job.start_values), dict(job.start_values), "netlist")
         if job.method == "complex":
             result = complex_minimise(runner, job.lower, job.upper, settings, job.seed, on_path=runner.on_path)
         elif job.method == "nelder_mead":

@@ -63,7 +63,8 @@ def test_serial_job_logs_every_evaluation_once_and_reports(tmp_path):
     s = run_optimise(job, workers=1, quiet=True)
     records = evaluations(job.output)
     assert sorted(r["index"] for r in records) == list(range(s.total)) and s.evaluated == s.total
-    assert len(s.records) == 24 and s.total == 24 + len(s.discarded)  # the budget counts the path
+    assert len(s.records) == 24 and s.total == 1 + 24 + len(s.discarded)  # the budget counts the path
+    assert records[0]["step"] == "netlist" and records[0]["parameters"] == job.start_values  # off the path
     on_path = {r["index"] for r in s.records}
     best = min((r for r in records if r["index"] in on_path), key=lambda r: r["cost"])
     assert s.best["index"] == best["index"] and s.best["cost"] == best["cost"]
@@ -120,7 +121,8 @@ def test_the_result_does_not_depend_on_the_number_of_workers(tmp_path):
     saved = [json.loads((s.folder / "best.json").read_text()) for s in (one, two)]
     assert saved[0]["parameters"] == saved[1]["parameters"] and saved[0]["cost"] == saved[1]["cost"]
     # the best design's number is its place on the path (the log's index also counts the discarded ones)
-    assert saved[0]["evaluation"] == saved[1]["evaluation"] == saved[0]["log_index"] < saved[1]["log_index"]
+    # (and the netlist's own design, evaluated first: log index 0)
+    assert saved[0]["evaluation"] == saved[1]["evaluation"] == saved[0]["log_index"] - 1 < saved[1]["log_index"] - 1
     report = (two.folder / "report.md").read_text()
     assert f"## Best design: evaluation {saved[0]['evaluation']} of the path (in the log: {saved[1]['log_index']})" \
         in report
@@ -129,7 +131,7 @@ def test_the_result_does_not_depend_on_the_number_of_workers(tmp_path):
     # the log keeps every evaluation once and says which were discarded
     header, logged = read_log(two.folder)
     assert sorted(r["index"] for r in logged if r.get("discarded")) == sorted(r["index"] for r in two.discarded)
-    assert len(logged) == two.total == len(one.records) + len(two.discarded)
+    assert len(logged) == two.total == 1 + len(one.records) + len(two.discarded)
 
 
 def test_the_report_says_how_to_simulate_the_best_design_again(tmp_path, monkeypatch):
@@ -179,13 +181,13 @@ def test_scipy_methods_run_as_jobs(tmp_path, algorithm):
     job = load_job(path)
     s = run_optimise(job, workers=2, quiet=True)
     records = evaluations(job.output)
-    assert sorted(r["index"] for r in records) == list(range(s.total)) and 0 < s.total <= 30
-    assert s.best["cost"] == min(r["cost"] for r in records)
+    assert sorted(r["index"] for r in records) == list(range(s.total)) and 0 < s.total <= 1 + 30
+    assert records[0]["step"] == "netlist" and s.best["cost"] == min(r["cost"] for r in records[1:])
     if "nelder_mead" in algorithm:  # starts at the netlist's values Kp = 4, Kv = 0.4
-        assert records[0]["parameters"] == pytest.approx({"Kp": 4.0, "Kv": 0.4})
+        assert records[1]["parameters"] == pytest.approx({"Kp": 4.0, "Kv": 0.4})
     else:
-        pids = {pid for r in records for pid in r["pids"]}
-        assert {r["step"] for r in records} == {"generation"} and len(pids) == 2 and os.getpid() in pids
+        pids = {pid for r in records[1:] for pid in r["pids"]}
+        assert {r["step"] for r in records[1:]} == {"generation"} and len(pids) == 2 and os.getpid() in pids
     assert "## Best design" in (job.output / "report.md").read_text()
 
 
@@ -261,9 +263,9 @@ def test_a_line_cut_short_by_a_kill_is_dropped(tmp_path):
     lines = log.read_text().splitlines(keepends=True)
     log.write_text("".join(lines[:-2]) + lines[-2][:40])  # the last evaluation lost, the one before torn
     s = run_optimise(job, resume=True, workers=1, quiet=True, report=False)
-    assert (s.replayed, s.evaluated) == (8, 2)
+    assert (s.replayed, s.evaluated) == (9, 2)  # the netlist's design and 8 of the path
     header, records = read_log(job.output)
-    assert [r["index"] for r in records] == list(range(10))
+    assert [r["index"] for r in records] == list(range(11))
     assert all(line.startswith("{") and line.endswith("}") for line in log.read_text().splitlines())
 
 
@@ -319,7 +321,8 @@ def test_interrupt_kill_and_resume_lose_nothing_and_repeat_nothing(tmp_path, wor
     assert not [r for r in final if r["status"] != "ok"]
     counts = Counter(r["index"] for r in final)
     assert sorted(counts) == list(range(len(counts))) and max(counts.values()) == 1
-    assert len([r for r in read_log(log.parent)[1] if not r.get("discarded")]) == 150  # the budget: the path
+    assert len([r for r in read_log(log.parent)[1] if not r.get("discarded") and r["step"] != "netlist"]) == 150
+    # the budget: the path
     kept = by_index(second)
     assert {i: v for i, v in by_index(final).items() if i in kept} == kept  # nothing re-evaluated
 
