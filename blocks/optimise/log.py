@@ -108,9 +108,13 @@ class EvaluationLog:
     @classmethod
     def existing(cls, folder: Path, fingerprint: str, resume: bool, sources: dict[str, str] | None = None) -> dict | None:
         """``sources`` (file -> digest, the header's ``"sources"``) are the files the job's circuit is built
-        from; a log whose header lists them is refused, naming the file, if any of them changed."""
+        from; a log whose header lists them is refused, naming the file, if any of them changed. ``resume``
+        without a log is an error too (never a new job started silently)."""
         path = Path(folder) / LOG_NAME
         if not (path.exists() and path.stat().st_size > 0):
+            if resume:  # a mistyped output: or a deleted folder would otherwise start the job again silently
+                raise LogError(f"{folder}: --resume, but this output folder holds no evaluation log ({LOG_NAME}); "
+                               f"there is nothing to continue -- check the job's output:, or run without --resume")
             return None
         if path.is_dir():
             raise LogError(f"{path}: a folder, not a log")

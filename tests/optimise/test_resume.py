@@ -63,3 +63,14 @@ def test_resume_refuses_a_changed_csv_data_file(tmp_path):
                                            "pos: {kind: ise, signal: x, reference: x_ref, unit: mm}"),
                                  ref, "0.5,0.4\n2.5,0.4", "0.5,0.2\n2.5,0.2")
     assert f"{ref.resolve()} changed" in message
+
+
+def test_resume_without_a_log_is_an_error_naming_the_folder(tmp_path, capsys):
+    import cli
+
+    path = write_job(tmp_path, str(ROOT / "netlists" / "opt" / "drive_line.yaml"), "Kp",
+                     "pos: {kind: ise, signal: x, reference: x_ref, unit: mm}")
+    assert cli.main(["optimise", str(path), "--resume", "--workers", "1", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"vphs: {tmp_path / 'out'}: --resume, but") and "no evaluation log" in err
+    assert err.count("\n") == 1 and not (tmp_path / "out").exists()  # nothing started
