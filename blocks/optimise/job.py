@@ -256,6 +256,9 @@ def _validate(located: Located) -> JobFile:
         model = JobFile.model_validate(located.data)
     except ValidationError as exc:
         raise (wrong_kind(located, "an optimisation job") or _located(located, exc, ())) from None
+    if model.scheduler and model.workers is not None:
+        raise located.error(("workers",), "workers: sets the local processes, which a job with scheduler: does not "
+                                          "use (the Dask cluster's workers evaluate); give one or the other")
     if model.scheduler:
         from blocks.optimise.executors import scheduler_problem
 
@@ -349,12 +352,15 @@ class _Resolver:
         self.circuit = Circuit.from_file(netlist, compile=False)
         self.table = self.circuit.flat.parameters
         self.entries = self.table.entries
-        name = m.name or Path(self.located.file).stem
+        name = self.name()
         fixed = {k: self.value(k, raw, ("set", k)) for k, raw in m.set.items()}
         free = [self.free_param(k, p) for k, p in m.parameters.items()]
         cases = [(case, {k: self.value(k, raw, ("load_cases", case, k)) for k, raw in values.items()})
                  for case, values in m.load_cases.items()] or [("nominal", {})]
         terms = [self.term(k, t) for k, t in m.cost.terms.items()]
+        if not any(t.weight > 0 for t in terms):
+            raise self.error(("cost", "terms"), "cost.terms: every weight is 0, so every design would cost 0 and "
+                             "nothing could be minimised or compared; give at least one term a weight above 0")
         method, settings = self.algorithm()
         sweep_names, sweep_points = self.sweep()
         varied = set(m.parameters) | set(sweep_names)
@@ -384,6 +390,17 @@ class _Resolver:
         job.fingerprint = self.fingerprint(netlist)
         job.sources = source_digests(self.circuit.flat.files)
         return job
+
+    def name(self) -> str:
+        """The job's name (default: the file's stem). It names the default output folder out/<name>, so it
+        must be a plain name: no path separator, not '.' or '..' (a folder outside out/)."""
+        given = self.model.name
+        if given is None:
+            return Path(self.located.file).stem
+        if given in ("", ".") or ".." in given or "/" in given or "\\" in given:
+            raise self.error(("name",), f"name: '{given}' is not a plain name; it names the output folder "
+                             f"(out/<name>), so give it without '/', '\\' or '..'")
+        return given
 
     def output(self, name: str) -> Path:
         """The output folder (relative to the working directory, not to the job file); a file in its place

@@ -186,7 +186,15 @@ class Runner:
 
 def _open(job: Job, command: str, folder: Path, resume: bool, workers, scheduler, client, header_extra):
     """Check the output folder's log, start the executor, open the log (``header_extra(executor, old_header)``
-    gives the method's entries of a new header)."""
+    gives the method's entries of a new header). ``workers`` with a Dask scheduler is refused: the cluster's
+    workers evaluate, and a number of local processes would be ignored."""
+    if workers is not None and (scheduler or job.scheduler or client is not None):
+        from blocks.errors import VphsError
+
+        where = f"--scheduler {scheduler}" if scheduler else \
+            f"the job's scheduler: {job.scheduler}" if job.scheduler else "a Dask client"
+        raise VphsError(f"--workers {workers} sets the local processes, but {where} evaluates on the Dask cluster's "
+                        f"workers; give one or the other")
     fingerprint = f"{job.fingerprint}-{command}"
     old = EvaluationLog.existing(folder, fingerprint, resume, job.sources)  # a foreign log, before any worker starts
     executor = make_executor(job.spec(), workers or job.workers, scheduler or job.scheduler, client)
