@@ -403,14 +403,11 @@ def cmd_optimise(args, sweep: bool = False) -> int:
     except EvaluationLost as lost:  # the cluster's fault, not the design's: nothing was logged as failed
         _say(f"vphs: {lost}; {_resume_hint(args, lost.summary)}")
         return EXIT_FAILED
-    if summary.above_penalty:
-        print(f"vphs: warning: {summary.above_penalty} working designs cost more than a failed simulation's "
-              f"penalty ({summary.job.penalty:g}); raise cost.penalty in the job", file=sys.stderr)
-    comparison, warn = ("", False)
-    if not sweep:
-        from blocks.optimise.report import netlist_comparison
+    from blocks.optimise.report import netlist_comparison, warnings
 
-        comparison, warn = netlist_comparison(summary)
+    for warning in warnings(summary):
+        print(f"vphs: warning: {warning}", file=sys.stderr)
+    comparison, warn = netlist_comparison(summary)
     if summary.best is None:
         print(f"vphs: every evaluation failed; see {summary.report}", file=sys.stderr)
         return EXIT_FAILED
@@ -420,8 +417,8 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         print(f"vphs: {summary.reason}: {len(summary.records)} evaluations ({summary.failed} failed{ahead}) in "
               f"{summary.seconds:.1f} s; best cost {summary.best['cost']:.6g} at {best}; report {summary.report}",
               file=sys.stderr)
-    if comparison and (warn or not args.quiet):
-        print(f"vphs: {'warning: ' if warn else ''}{comparison}", file=sys.stderr)
+    if comparison and not warn and not args.quiet:
+        print(f"vphs: {comparison}", file=sys.stderr)
     return 0
 
 

@@ -131,6 +131,28 @@ def netlist_comparison(summary) -> tuple[str, bool]:
             f"the netlist's own design costs {_fmt(start['cost'])}"), False
 
 
+def warnings(summary) -> list[str]:
+    """What the reader must not miss, as sentences, for the report and the console alike: the best found no
+    better than the netlist's own design; working designs costlier than a failed one (the penalty too
+    low); differential evolution with a budget that only samples its initial population."""
+    from blocks.optimise.scipy_methods import de_generations
+
+    job, out = summary.job, []
+    comparison, warn = netlist_comparison(summary)
+    if warn:
+        out.append(comparison)
+    if summary.above_penalty:
+        out.append(f"{summary.above_penalty} working designs cost more than the penalty of a failed simulation "
+                   f"({_fmt(job.penalty)}), so failures ranked as better than they; raise cost.penalty in the job")
+    if summary.command == "optimise" and job.method == "differential_evolution" \
+            and de_generations(job.settings, len(job.free)) == 0:
+        size = job.settings.popsize * len(job.free)
+        out.append(f"differential evolution only sampled: max_evaluations = {job.settings.max_evaluations} allows "
+                   f"its initial population of popsize * n = {size} random designs and no generation after it, so "
+                   f"the best is the best of those samples; give max_evaluations >= {2 * size} for it to evolve")
+    return out
+
+
 def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     job, best = summary.job, summary.best
     s = job.settings
@@ -151,13 +173,11 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
              ""]
+    for warning in warnings(summary):
+        lines += [f"**Warning:** {warning[0].upper()}{warning[1:]}.", ""]
     comparison, warn = netlist_comparison(summary)
-    if comparison:
-        sentence = comparison[0].upper() + comparison[1:] + "."
-        lines += [f"**Warning:** {sentence}" if warn else sentence, ""]
-    if summary.above_penalty:
-        lines += [f"**Warning:** {summary.above_penalty} working designs cost more than the penalty of a failed "
-                  f"simulation ({_fmt(job.penalty)}), so failures ranked as better than they; raise cost.penalty.", ""]
+    if comparison and not warn:
+        lines += [f"{comparison[0].upper()}{comparison[1:]}.", ""]
     if best is None:
         lines += ["**No evaluation succeeded.** The errors:", ""]
         lines += [f"- {e}" for e in _distinct_errors(records)] + [""]

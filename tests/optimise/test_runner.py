@@ -191,6 +191,26 @@ def test_scipy_methods_run_as_jobs(tmp_path, algorithm):
     assert "## Best design" in (job.output / "report.md").read_text()
 
 
+@pytest.mark.parametrize("budget,sampled", [(15, True), (20, False)])
+def test_differential_evolution_that_only_samples_says_so(tmp_path, capsys, budget, sampled):
+    """Review: a budget below two generations evaluates the initial population (popsize * n = 10 random
+    designs) and nothing after it; the report and the console said nothing."""
+    import cli
+
+    path = small_job(tmp_path, budget=budget)
+    path.write_text(path.read_text().replace(
+        f"algorithm: {{method: complex, max_evaluations: {budget}, tol_x: 0, tol_f: 0, candidates: 2}}",
+        f"algorithm: {{method: differential_evolution, max_evaluations: {budget}, popsize: 5}}"))
+    assert cli.main(["optimise", str(path), "--workers", "1", "-q"]) == 0
+    steps = Counter(r["step"] for r in evaluations(tmp_path / "out"))
+    assert steps["generation"] == (10 if sampled else 20)  # the budget's generations: 1 or 2
+    report = (tmp_path / "out" / "report.md").read_text()
+    warning = "differential evolution only sampled: max_evaluations = 15 allows its initial population of " \
+              "popsize * n = 10 random designs"
+    assert (warning in report.replace("Differential", "differential")) == sampled
+    assert (f"vphs: warning: {warning}" in capsys.readouterr().err) == sampled
+
+
 def test_failed_simulations_are_recorded_with_a_penalty_and_the_job_goes_on(tmp_path):
     # growth.yaml: y' = k*y. k > ~709 overflows (SimulationError); 354 < k < 709 overflows int y^2 dt;
     # below, int y^2 dt = (exp(2k) - 1)/(2k) reaches 1e305, so the penalty must be above that.
