@@ -274,6 +274,16 @@ def _resimulate(job, parameters: dict) -> dict:
     return out
 
 
+def error_label(term) -> str:
+    """What a max_abs term plots: its signal minus its reference (a logged signal or a constant in the
+    term's unit), or the signal alone when it has no reference (not "pA - 0")."""
+    if term.reference is not None:
+        return f"{term.signal} - {term.reference}"
+    if term.offset != 0.0:
+        return f"{term.signal} - {_fmt(term.offset / term.scale)} {term.unit}".rstrip()
+    return term.signal
+
+
 def _signals_plot(job, results: dict, path: Path, title: str) -> None:
     from blocks.optimise.costs import term_signal
 
@@ -292,8 +302,7 @@ def _signals_plot(job, results: dict, path: Path, title: str) -> None:
                         label=f"{term.signal} high-passed{label}")
             elif term.kind == "max_abs":
                 error = term_signal(term, t, result)
-                ref = term.reference or _fmt(term.offset / term.scale)
-                ax.plot(t, error, color=colour, lw=0.9, label=f"{term.signal} - {ref}{label}")
+                ax.plot(t, error, color=colour, lw=0.9, label=f"{error_label(term)}{label}")
                 k_max = int(np.argmax(np.abs(error)))
                 ax.plot(t[k_max], error[k_max], "o", color=colour, label=f"max |error| {_fmt(abs(error[k_max]), 4)}")
             else:
