@@ -47,23 +47,39 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM to a job's process that handles it (:func:`terminate_as_interrupt`): stopped as by Ctrl-C."""
+
+
+def terminate_as_interrupt(signum, frame) -> None:
+    """A SIGTERM handler for the job's process (``vphs optimise|sweep``): the job stops as on Ctrl-C, after
+    the evaluation under way, its log resumable and the resume command said, rather than dying silently."""
+    raise Terminated
+
+
 @contextlib.contextmanager
 def interrupt_after_evaluation():
-    """Ctrl-C while this process evaluates ends the job after the evaluation, not inside it: raised inside
-    the compiled integrator, KeyboardInterrupt surfaces as a SystemError that would look like a failed
-    design. Evaluations take milliseconds to seconds; a second Ctrl-C waits as well."""
-    if threading.current_thread() is not threading.main_thread() \
-            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler:  # Ctrl-C ignored or handled
+    """Ctrl-C (and SIGTERM where :func:`terminate_as_interrupt` handles it) while this process evaluates
+    ends the job after the evaluation, not inside it: raised inside the compiled integrator,
+    KeyboardInterrupt surfaces as a SystemError that would look like a failed design. Evaluations take
+    milliseconds to seconds; a second signal waits as well. A signal ignored or handled otherwise is left
+    alone."""
+    deferred = {number: handler for number, handler in ((signal.SIGINT, signal.getsignal(signal.SIGINT)),
+                                                        (signal.SIGTERM, signal.getsignal(signal.SIGTERM)))
+                if handler in (signal.default_int_handler, terminate_as_interrupt)}
+    if threading.current_thread() is not threading.main_thread() or not deferred:
         yield
         return
     pending = []
-    previous = signal.signal(signal.SIGINT, lambda *_: pending.append(True))
+    for number in deferred:
+        signal.signal(number, lambda number, frame: pending.append(number))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for number, handler in deferred.items():
+            signal.signal(number, handler)
     if pending:
-        raise KeyboardInterrupt
+        deferred[pending[0]](pending[0], None)  # delivered now: raises KeyboardInterrupt (or Terminated)
 
 
 class SerialExecutor:
@@ -96,6 +112,7 @@ def warm_up(spec: EvalSpec) -> None:
 def _worker_start(spec: EvalSpec, parent: int, warm: bool) -> None:
     global _WORKER_SPEC
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the job's to handle
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the job's handler, inherited by a fork: a worker just ends
     threading.Thread(target=_orphan_watch, args=(parent,), daemon=True).start()
     _WORKER_SPEC = spec
     if warm:  # a spawned worker loads the circuit itself; a forked one inherited it warm

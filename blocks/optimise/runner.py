@@ -37,14 +37,14 @@ from pathlib import Path
 import numpy as np
 
 from blocks.optimise.complex import ComplexSettings, complex_minimise
-from blocks.optimise.executors import EvaluationLost, make_executor
+from blocks.optimise.executors import EvaluationLost, Terminated, make_executor
 from blocks.optimise.job import Job
 from blocks.optimise.log import EvaluationLog, point_id
 from blocks.optimise.scipy_methods import differential_evolution, nelder_mead
 
 
 class Interrupted(Exception):
-    """Ctrl-C: the evaluations finished so far are in the log."""
+    """Ctrl-C (or SIGTERM, ``summary.reason`` "terminated"): the evaluations finished so far are in the log."""
 
     def __init__(self, summary: "Summary"):
         self.summary = summary
@@ -291,9 +291,9 @@ def _running(executor, log, progress, summary: Summary):
     interrupted = False
     try:
         yield
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         interrupted = True
-        summary.reason = "interrupted"
+        summary.reason = "terminated" if isinstance(exc, Terminated) else "interrupted"
     except EvaluationLost as exc:
         summary.reason = "an evaluation lost by the cluster"
         exc.summary = summary

@@ -352,6 +352,22 @@ def test_interrupt_kill_and_resume_lose_nothing_and_repeat_nothing(tmp_path, wor
     assert (log.parent / "report.md").exists()
 
 
+def test_sigterm_stops_the_job_as_ctrl_c_does_with_the_resume_hint(tmp_path):
+    """Review: SIGTERM (kill, a batch system's time limit) exited 143 without a word."""
+    path = small_job(tmp_path, budget=150, cases=3, out="terminated")
+    log = tmp_path / "terminated" / LOG_NAME
+    p = _start(["optimise", str(path), "--workers", "1"], tmp_path)
+    _wait_for_evaluations(p, log, 20)
+    p.terminate()
+    out, err = p.communicate(timeout=60)
+    assert p.returncode == 143, err
+    assert err.splitlines()[-1].startswith("vphs: terminated; ") and f"vphs optimise {path} --resume" in err
+    first = evaluations(log.parent)
+    assert 20 <= len(first) < 151 and all(r["status"] == "ok" for r in first)  # none cut into a failure
+    p = _start(["optimise", str(path), "--workers", "1", "--resume", "-q"], tmp_path)
+    assert p.wait(timeout=120) == 0 and all(r["status"] == "ok" for r in evaluations(log.parent))
+
+
 def test_cli_bad_job_is_one_line_exit_2(tmp_path, capsys):
     import cli
 
