@@ -18,8 +18,10 @@ from __future__ import annotations
 
 import argparse
 import os
+import signal
 import sys
 import tempfile
+import threading
 from pathlib import Path
 
 EXIT_FAILED, EXIT_BAD_INPUT = 1, 2
@@ -381,6 +383,7 @@ def cmd_docs(args) -> int:
 
 def cmd_optimise(args, sweep: bool = False) -> int:
     """vphs optimise|sweep JOB: evaluations logged as they finish; a report at the end (blocks.optimise)."""
+    from blocks.optimise.executors import EvaluationLost, terminate_as_interrupt
     from blocks.optimise.job import load_job
     from blocks.optimise.runner import Interrupted, run_optimise, run_sweep
 
@@ -393,17 +396,25 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         if problem:
             raise ArgumentError(f"vphs: --scheduler '{args.scheduler}': {problem}")
     job = load_job(args.job)
+    main_thread = threading.current_thread() is threading.main_thread()
+    previous = signal.signal(signal.SIGTERM, terminate_as_interrupt) if main_thread else None
     try:
         summary = (run_sweep if sweep else run_optimise)(job, resume=args.resume, workers=args.workers,
                                                          scheduler=args.scheduler, quiet=args.quiet)
-    except Interrupted as stop:
-        s = stop.summary
-        print(f"vphs: interrupted; {s.total} evaluations are in {s.folder}; continue with: "
-              f"vphs {args.command} {args.job} --resume", file=sys.stderr)
-        return 130
-    if summary.above_penalty:
-        print(f"vphs: warning: {summary.above_penalty} working designs cost more than a failed simulation's "
-              f"penalty ({summary.job.penalty:g}); raise cost.penalty in the job", file=sys.stderr)
+    except Interrupted as stop:  # Ctrl-C, or SIGTERM (kill, a batch system's time limit)
+        _say(f"vphs: {stop.summary.reason}; {_resume_hint(args, stop.summary)}")
+        return 128 + signal.SIGTERM if stop.summary.reason == "terminated" else 130
+    except EvaluationLost as lost:  # the cluster's fault, not the design's: nothing was logged as failed
+        _say(f"vphs: {lost}; {_resume_hint(args, lost.summary)}")
+        return EXIT_FAILED
+    finally:
+        if main_thread:
+            signal.signal(signal.SIGTERM, previous)
+    from blocks.optimise.report import netlist_comparison, warnings
+
+    for warning in warnings(summary):
+        print(f"vphs: warning: {warning}", file=sys.stderr)
+    comparison, warn = netlist_comparison(summary)
     if summary.best is None:
         print(f"vphs: every evaluation failed; see {summary.report}", file=sys.stderr)
         return EXIT_FAILED
@@ -413,7 +424,14 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         print(f"vphs: {summary.reason}: {len(summary.records)} evaluations ({summary.failed} failed{ahead}) in "
               f"{summary.seconds:.1f} s; best cost {summary.best['cost']:.6g} at {best}; report {summary.report}",
               file=sys.stderr)
+    if comparison and not warn and not args.quiet:
+        print(f"vphs: {comparison}", file=sys.stderr)
     return 0
+
+
+def _resume_hint(args, summary) -> str:
+    return (f"{summary.total} evaluations are in {summary.folder}; continue with: "
+            f"vphs {args.command} {args.job} --resume")
 
 
 def cmd_calibrate(args) -> int:

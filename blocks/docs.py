@@ -9,6 +9,8 @@
   every key of the schema has one);
 - the value syntax: the known units from :data:`blocks.units.UNITS`, the functions and constants of
   :mod:`blocks.expressions`;
+- the calibration experiment file and the optimisation job file: the annotated examples and the rules
+  in the docstrings of :mod:`blocks.calibrate.experiment` and :mod:`blocks.optimise.job`;
 - the blocks: every registered type (:mod:`blocks.registry`) with its docstring, ports, parameters,
   states and feedthrough, grouped by library.
 """
@@ -389,8 +391,8 @@ def file_format() -> str:
         schema_table(spec.Output),
         "With no `outputs:` section every net's across variable is logged under the net's name (pressures "
         "in bar); `vphs run` writes the logged signals to CSV (header `t [s]`, then `name [unit]` for each) "
-        "and, with `--plot`, a PNG. An output's name is its column's name, read back by `vphs diff` and "
-        "`vphs compare`: it may not be `t` (the time column), have spaces around it or contain `[` or `]`.",
+        "and, with `--plot`, a PNG. An output's name is its column's name, read back by `vphs diff`: "
+        "it may not be `t` (the time column), have spaces around it or contain `[` or `]`.",
         "",
         "### Simulation",
         "",
@@ -424,6 +426,50 @@ def experiment_format() -> str:
         "```yaml", inspect.cleandoc(block), "```", ""])
 
 
+def job_format() -> str:
+    """The optimisation and sweep job file (``vphs optimise``, ``vphs sweep``): the docstring of
+    blocks.optimise.job, which keeps the annotated example, the cost terms, the methods' settings and
+    how to express a limit beside the code that reads them."""
+    from blocks.optimise import job
+
+    doc = inspect.getdoc(job) or ""
+    body = doc.split("\n\n", 1)[1] if "\n\n" in doc else ""
+    return "\n".join(["## The optimisation job file", "",
+                      "What the commands write and how they run: the README's Optimisation jobs section.", "",
+                      docstring_markdown(body), ""])
+
+
+def docstring_markdown(text: str) -> str:
+    """A docstring's reStructuredText as Markdown: ``code`` and :role:`name` as `code`; a paragraph ending
+    in '::' followed by an indented block as the paragraph and a fenced YAML block; any other indented
+    block (a table of settings) as a fenced text block; in prose, * and < escaped (not emphasis or HTML)."""
+    out, lines, i = [], text.splitlines(), 0
+    while i < len(lines):
+        if lines[i].startswith("    "):
+            block = []
+            while i < len(lines) and (lines[i].startswith("    ") or not lines[i].strip()):
+                block.append(lines[i])
+                i += 1
+            while out and not out[-1].strip():
+                out.pop()
+            language = "yaml" if out and out[-1].endswith("::") else "text"
+            if language == "yaml":
+                out[-1] = out[-1][:-1]
+            out += ["", f"```{language}", inspect.cleandoc("\n".join(block)), "```", ""]
+            continue
+        if lines[i].strip() or (out and out[-1].strip()):  # one blank line between paragraphs
+            out.append(_prose_markdown(lines[i]))
+        i += 1
+    return "\n".join(out).strip("\n")
+
+
+def _prose_markdown(line: str) -> str:
+    line = re.sub(r":\w+:`~?([^`]+)`", r"``\1``", line)
+    parts = line.split("``")  # odd parts are code
+    return "`".join(part if k % 2 else re.sub(r"<(?=[A-Za-z/!?])", r"\\<", part.replace("*", "\\*"))
+                    for k, part in enumerate(parts))
+
+
 def reference_text() -> str:
     """The whole netlist reference (Markdown): contents, the file format, every registered block."""
     from blocks import registry
@@ -433,7 +479,7 @@ def reference_text() -> str:
     order = [title for _, title in LIBRARIES] + ["Other blocks"]
     for cls in types.values():
         grouped.setdefault(library_of(cls), []).append(cls)
-    fmt = file_format() + "\n" + experiment_format()
+    fmt = file_format() + "\n" + experiment_format() + "\n" + job_format()
 
     toc = ["## Contents", ""]
     for line in fmt.splitlines():

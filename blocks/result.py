@@ -25,7 +25,7 @@ TIME_COLUMN = "t"
 def column_name_problem(name: str) -> str | None:
     """Why ``name`` cannot head a column of the results CSV (``name [unit]``), or None if it can.
 
-    The CSV is read back by :func:`blocks.datafile.read_table` (``vphs diff``, ``vphs compare``), which
+    The CSV is read back by :func:`blocks.datafile.read_table` (``vphs diff``), which
     takes a header cell's name up to its ``[unit]`` and strips the spaces around it: a logged signal named
     ``t`` would be a second time column, one with brackets would not read as ``name [unit]``, one with
     spaces around it (or nothing but spaces) would read as another name."""

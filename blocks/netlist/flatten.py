@@ -83,6 +83,9 @@ class FlatCircuit:
     aliases: dict[str, str] = field(default_factory=dict)
     """Other names of things: a subsystem's exposed port ("bridge.x_ref") -> its inner net or port, and a
     net merged into another through a subsystem port ("bridge.P") -> the net it became ("P")."""
+    files: list[str] = field(default_factory=list)
+    """Every file the circuit was built from, resolved, each once in the order read: the netlist, its
+    subsystem files, the data files of its ``{csv:, column:}`` parameters (what a result depends on)."""
 
     def resolve_alias(self, name: str) -> str:
         seen = 0
@@ -145,6 +148,7 @@ def flatten(file: str | Path) -> FlatCircuit:
     located = read_yaml(file)
     netlist = _load_spec(located)
     builder = _Builder()
+    builder.read(file)
     fluid = builder.add_fluid(netlist, located)
     builder.add_netlist(netlist, located, prefix="", overrides={},
                         stack=(str(Path(file).resolve()),), fluid=fluid, default_volume=None)
@@ -160,7 +164,8 @@ def flatten(file: str | Path) -> FlatCircuit:
         if ref not in builder.net_names:
             builder._resolve_ref(ref, ref, located, ("ports", exposed))
     aliases = {k: v for k, v in {**builder.aliases, **builder.merged_into}.items() if k != v}
-    circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs, aliases)
+    circuit = FlatCircuit(str(file), netlist, located, builder.components, nets, builder.table, outputs, aliases,
+                          list(builder.files))
     builder.table.order()  # unknown names and cycles are reported now, not at the first evaluation
     return circuit
 
@@ -189,6 +194,11 @@ class _Builder:
         # each file's scope, prefix and nets, for the dotted names of its nets' initial values (A.initial),
         # known once the nets are merged: a net joined to another through a subsystem port has one start
         self.net_scopes: list[tuple[dict[str, str], str, list[str]]] = []
+        self.files: dict[str, None] = {}  # FlatCircuit.files (a dict keeps the order and each file once)
+
+    def read(self, file) -> None:
+        """Note a file the circuit is built from (:attr:`FlatCircuit.files`)."""
+        self.files.setdefault(str(Path(file).resolve()), None)
 
     # ---- parameters ---------------------------------------------------------------------------------
     def add_fluid(self, netlist: spec.Netlist, located: Located, prefix: str = "",
@@ -366,6 +376,7 @@ class _Builder:
     def _array_entry(self, entry_name, raw, param, located: Located, path: tuple, name: str, scope) -> Entry:
         if isinstance(raw, spec.CsvColumn):
             values = read_csv_column(Path(located.file).parent / raw.csv, raw.column, param.unit, located, path)
+            self.read(Path(located.file).parent / raw.csv)
             return Entry(entry_name, param.unit, values, None, scope, located, path, param, raw=raw)
         if not isinstance(raw, list) or not raw:
             raise located.error(path, f"{name}: {param.name} takes a non-empty list of values or {{csv:, column:}}")
@@ -391,6 +402,7 @@ class _Builder:
             if exc.line is None:  # the file itself is unreadable: say where it is named
                 raise located.error(path + ("netlist",), f"subsystem '{name}': {sub.netlist}: {exc.message}") from None
             raise
+        self.read(file)
         inner = _load_spec(inner_located)
         overrides = {k: (v, located, path + ("parameters", k), scope) for k, v in sub.parameters.items()}
         overrides.update(passed)  # the outer file's word is the last

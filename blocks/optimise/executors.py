@@ -20,6 +20,11 @@ once (``Circuit.from_file``, compiled code from the disk cache) and keeps it for
 - ``dask``: a Dask distributed cluster at ``scheduler`` (``tcp://host:8786``) or an existing
   ``distributed.Client``. The job's evaluation spec is sent to every worker once; the netlist path must
   be readable on the workers (a shared file system), and each worker process keeps its circuit.
+  A task the cluster loses (its worker died, a connection closed: ``future.result()`` raises, which
+  :func:`evaluate_case` itself never does) is not the design's failure: it is submitted again, at most
+  ``LOST_RESUBMISSIONS`` times (with the spec scattered again if the lost copy was the only one), and
+  then the job stops with :class:`EvaluationLost`, its log resumable. A failed simulation inside the
+  task is a failed design, as everywhere.
 """
 
 from __future__ import annotations
@@ -31,6 +36,7 @@ import signal
 import threading
 from typing import Iterator
 
+from blocks.errors import VphsError
 from blocks.optimise.evaluate import EvalSpec, combine_cases, evaluate_case, evaluate_design
 
 
@@ -41,23 +47,39 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
+class Terminated(KeyboardInterrupt):
+    """SIGTERM to a job's process that handles it (:func:`terminate_as_interrupt`): stopped as by Ctrl-C."""
+
+
+def terminate_as_interrupt(signum, frame) -> None:
+    """A SIGTERM handler for the job's process (``vphs optimise|sweep``): the job stops as on Ctrl-C, after
+    the evaluation under way, its log resumable and the resume command said, rather than dying silently."""
+    raise Terminated
+
+
 @contextlib.contextmanager
 def interrupt_after_evaluation():
-    """Ctrl-C while this process evaluates ends the job after the evaluation, not inside it: raised inside
-    the compiled integrator, KeyboardInterrupt surfaces as a SystemError that would look like a failed
-    design. Evaluations take milliseconds to seconds; a second Ctrl-C waits as well."""
-    if threading.current_thread() is not threading.main_thread() \
-            or signal.getsignal(signal.SIGINT) is not signal.default_int_handler:  # Ctrl-C ignored or handled
+    """Ctrl-C (and SIGTERM where :func:`terminate_as_interrupt` handles it) while this process evaluates
+    ends the job after the evaluation, not inside it: raised inside the compiled integrator,
+    KeyboardInterrupt surfaces as a SystemError that would look like a failed design. Evaluations take
+    milliseconds to seconds; a second signal waits as well. A signal ignored or handled otherwise is left
+    alone."""
+    deferred = {number: handler for number, handler in ((signal.SIGINT, signal.getsignal(signal.SIGINT)),
+                                                        (signal.SIGTERM, signal.getsignal(signal.SIGTERM)))
+                if handler in (signal.default_int_handler, terminate_as_interrupt)}
+    if threading.current_thread() is not threading.main_thread() or not deferred:
         yield
         return
     pending = []
-    previous = signal.signal(signal.SIGINT, lambda *_: pending.append(True))
+    for number in deferred:
+        signal.signal(number, lambda number, frame: pending.append(number))
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for number, handler in deferred.items():
+            signal.signal(number, handler)
     if pending:
-        raise KeyboardInterrupt
+        deferred[pending[0]](pending[0], None)  # delivered now: raises KeyboardInterrupt (or Terminated)
 
 
 class SerialExecutor:
@@ -90,6 +112,7 @@ def warm_up(spec: EvalSpec) -> None:
 def _worker_start(spec: EvalSpec, parent: int, warm: bool) -> None:
     global _WORKER_SPEC
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # Ctrl-C is the job's to handle
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)  # not the job's handler, inherited by a fork: a worker just ends
     threading.Thread(target=_orphan_watch, args=(parent,), daemon=True).start()
     _WORKER_SPEC = spec
     if warm:  # a spawned worker loads the circuit itself; a forked one inherited it warm
@@ -281,6 +304,14 @@ class LocalExecutor:
             self.affinity = None
 
 
+LOST_RESUBMISSIONS = 3  # a Dask task the cluster loses is submitted again at most this many times
+
+
+class EvaluationLost(VphsError):
+    """The cluster lost an evaluation (a worker died, the connection closed) more than LOST_RESUBMISSIONS
+    times: the job stops; what it logged so far stays resumable. Not a failure of the design."""
+
+
 class DaskExecutor:
     """Evaluations on a Dask distributed cluster (see the module docstring)."""
 
@@ -294,8 +325,6 @@ class DaskExecutor:
         try:
             self.client = client or Client(scheduler, timeout="10s")
         except (OSError, TimeoutError) as exc:
-            from blocks.errors import VphsError
-
             raise VphsError(f"cannot reach the Dask scheduler at {scheduler}: {exc}") from None
         self.workers = max(1, sum(self.client.nthreads().values()))
         try:  # each worker loads the circuit now (once), and a netlist the workers cannot read is said now
@@ -303,31 +332,51 @@ class DaskExecutor:
         except Exception as exc:
             if self.own_client:
                 self.client.close()
-            from blocks.errors import VphsError
-
             raise VphsError(f"a Dask worker could not load {spec.netlist}: {type(exc).__name__}: {exc} "
                             f"(the workers need the netlist at the same path)") from None
         # hash=False: a key of its own, so that releasing another job's copy of the same spec cannot cancel ours
         self.spec_future = self.client.scatter(spec, broadcast=True, hash=False)
 
+    def _spec_for(self, lost_with=None):
+        """The scattered spec to submit with; scattered again if ``lost_with`` (the copy a lost task had) is
+        the current one: a worker killed with the only copy takes it with it, and every task submitted with
+        that copy afterwards is cancelled ("lost dependencies") even once another worker has joined."""
+        if lost_with is not None and lost_with is self.spec_future:
+            try:
+                self.spec_future.release()
+            except Exception:  # already gone with its worker
+                pass
+            self.spec_future = self.client.scatter(self.spec, broadcast=True, hash=False)
+        return self.spec_future
+
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         from distributed import as_completed
 
-        index, futures = {}, []
-        for i, design in enumerate(designs):
-            for k in range(len(self.spec.cases)):
-                future = self.client.submit(evaluate_case, self.spec_future, design, k, pure=False)
-                index[future.key] = (i, k)
-                futures.append(future)
+        tasks, futures = {}, []  # future key -> (design, load case, the spec copy it was given)
+        losses: dict[tuple[int, int], int] = {}
+
+        def submit(i: int, k: int, lost_with=None):
+            spec = self._spec_for(lost_with)
+            future = self.client.submit(evaluate_case, spec, designs[i], k, pure=False)
+            tasks[future.key] = (i, k, spec)
+            futures.append(future)
+            return future
+
+        pending = as_completed([submit(i, k) for i in range(len(designs)) for k in range(len(self.spec.cases))])
         assembler = _Assembler(self.spec, len(designs))
         try:
-            for future in as_completed(futures):
-                i, k = index[future.key]
+            for future in pending:
+                i, k, spec = tasks[future.key]
                 try:
                     part = future.result()
-                except Exception as exc:  # the cluster lost the task (a worker died, ...): a failed case
-                    part = {"case": self.spec.cases[k][0], "terms": None, "cost": None, "warnings": [],
-                            "error": f"dask: {type(exc).__name__}: {exc}", "seconds": 0.0, "pid": None}
+                except Exception as exc:  # evaluate_case never raises: the cluster lost the task, not the design
+                    losses[i, k] = losses.get((i, k), 0) + 1
+                    if losses[i, k] > LOST_RESUBMISSIONS:
+                        raise EvaluationLost(
+                            f"the Dask cluster lost an evaluation {losses[i, k]} times ({type(exc).__name__}: "
+                            f"{exc}); it is not a failure of the design and was not logged") from None
+                    pending.add(submit(i, k, lost_with=spec))
+                    continue
                 record = assembler.add(i, part)
                 if record is not None:
                     yield i, record

@@ -1,41 +1,78 @@
 """Optimisation and sweep jobs in YAML: the schema (pydantic), the loader and its one-line located errors.
 
-    name: controller                       # default: the file's stem
+A job file (YAML, ``netlists/jobs/*.yaml``) for ``vphs optimise`` and ``vphs sweep``::
+
+    description: the drive line's controller   # free text
+    name: controller                       # default: the file's stem; a plain name (no '/', '\\', '..'):
+                                           # it names the default output folder out/<name>
     netlist: ../opt/drive_line.yaml        # relative to the job file
     output: out/controller                 # relative to the working directory; default out/<name>
-    seed: 1
-    workers: 2                             # default: every core; --workers overrides
-    scheduler: tcp://10.0.0.5:8786         # optional Dask scheduler; --scheduler overrides
+    seed: 1                                # the methods' random numbers (default 0): same seed, same run
+    workers: 2                             # local processes (default: every core); --workers overrides;
+                                           # not together with a scheduler
+    scheduler: tcp://10.0.0.5:8786         # optional Dask scheduler; --scheduler overrides (the workers
+                                           # must read the netlist at the same path)
     set: {V_line: "1 l"}                   # fixed overrides for every evaluation
     parameters:                            # the free parameters: qualified names, bounds, log scaling
-      Kp: {min: 1, max: 30, log: true}
+      Kp: {min: 1, max: 30, log: true}     # log: searched evenly in decades (min > 0)
       spool.wn: {min: "40 rad/s", max: "120 rad/s"}
     cost:
       combine: sum                         # over the load cases: sum | mean | worst
-      penalty: 1e9                         # the cost of a failed simulation
-      terms:
-        pos: {kind: ise, signal: x, reference: x_ref, unit: mm, weight: 50}
-        vib: {kind: hp_ise, signal: pA, wn: "100 rad/s", zeta: 0.7071, weight: 3e-8}
-        max_pos: {kind: max_abs, signal: x, reference: x_ref, unit: mm, weight: 0}    # reported only
+      penalty: 1e9                         # the cost of a failed simulation (default 1e9)
+      terms:                               # cost = sum of weight * term per load case; >= 1 weight > 0
+        pos: {kind: ise, signal: x, reference: x_ref, unit: mm, weight: 50}   # int ((x - x_ref)/mm)^2 dt
+        vib: {kind: hp_ise, signal: pA, wn: "100 rad/s", zeta: 0.7071, weight: 3e-8}  # int (high-passed pA)^2 dt
+        max_pos: {kind: max_abs, signal: x, reference: x_ref, unit: mm, weight: 0}    # weight 0: reported only
+        settle: {kind: ise, signal: x, reference: "1 m", t_from: "2.5 s", t_to: "3 s"}  # a constant reference,
+                                                                                      # over a time window
     load_cases:                            # parameter overrides; each case is simulated per design
       empty: {m_load: "0 kg"}
       full: {m_load: "15 t"}
-    algorithm: {method: complex, max_evaluations: 300, rfak: 0, gamma: 0}
+    algorithm: {method: complex, max_evaluations: 300, rfak: 0, gamma: 0}   # one method and its settings
     sweep:                                 # for 'vphs sweep': one or two parameters
-      parameters: {Kp: [2, 4, 8], Kv: {min: 0.2, max: 0.6, points: 5}}
+      parameters: {Kp: [2, 4, 8], Kv: {min: 0.2, max: 0.6, points: 5, log: false}}
       combine: grid                        # grid (every combination) | list (the i-th values together)
 
+Cost terms (:mod:`blocks.optimise.costs`) read a logged signal of the netlist (``outputs:``), minus a
+``reference`` (another logged signal, or a constant value; none: 0), in the term's ``unit`` (default:
+the signal's SI unit), over ``t_from`` <= t <= ``t_to`` (default: the whole run):
+``ise`` = int e^2 dt, ``max_abs`` = max |e|, ``hp_ise`` = int h^2 dt with h the signal through the
+high-pass s^2/(s^2 + 2*zeta*wn*s + wn^2) (``wn`` required, ``zeta`` default 0.7071, no reference). The
+high-pass starts in steady state at the first sample: a constant initial value gives no output, only
+what changes after t = 0 does.
+
 Methods and their settings (defaults):
-    complex: max_evaluations 500, points max(2n, 3), alpha 1.3, n0 4, rfak 0, gamma 0, tol_x 1e-4,
-             tol_f 1e-5, max_retractions 30, candidates auto (= the workers; see blocks.optimise.complex:
+    complex: max_evaluations 500, points max(2n, 3) (the size of the complex, at least n + 1), alpha 1.3
+             (reflection distance), n0 4 (retraction law), rfak 0 (randomisation), gamma 0 (forgetting),
+             tol_x 1e-4 (stop when the complex's spread in every parameter is below this fraction of its
+             range), tol_f 1e-5 (stop when the relative spread of its costs is below this),
+             max_retractions 30, candidates auto (= the workers: how many of the reflection and the
+             retractions that may follow it are evaluated at once; see blocks.optimise.complex:
              max_evaluations counts the evaluations on the method's path, not the candidates evaluated
              ahead and discarded, so that the result does not depend on the workers)
     nelder_mead: max_evaluations 500, xatol 1e-4, fatol 1e-6, start random | netlist, adaptive false
-    differential_evolution: max_evaluations 1000, popsize 15, tol 0.01, atol 0, mutation [0.5, 1.0],
-             recombination 0.7, strategy best1bin, polish false
+             (one evaluation at a time: it uses one worker)
+    differential_evolution: max_evaluations 1000, popsize 15 (a generation is popsize * n designs, each
+             evaluated in parallel; the first is a Latin hypercube sample of the box), tol 0.01, atol 0,
+             mutation [0.5, 1.0], recombination 0.7, strategy best1bin, polish false. max_evaluations
+             must hold one generation; below two it only samples (the report says so).
+Besides the method's evaluations, ``vphs optimise`` evaluates the netlist's own design first (its values of
+the free parameters, if inside the bounds) and the report compares the best with it.
 Outputs: ``vphs optimise`` writes into ``output``, ``vphs sweep`` into ``output``/sweep.
 A failed simulation costs ``penalty``: choose it above any cost a working design can have (the report
 warns when working designs cost more).
+
+There are no constraints (a ``constraints:`` key is refused). A limit is expressed as a cost that is zero
+while it holds: log the excess in the netlist with a ``dead_band`` block (zero inside [lower, upper]) and
+give a term on it a large weight, e.g. for pA <= 250 bar::
+
+    # netlist: components: {pA_sensor: {type: pressure_sensor}, over: {type: dead_band,
+    #                        params: {lower: "-1000 bar", upper: "250 bar"}}}
+    #          nets: A: {ports: [..., pA_sensor.port]}, p_over: [pA_sensor.p, over.u]
+    #          outputs: {pA_over: {of: over.y, unit: bar}}
+    limit: {kind: max_abs, signal: pA_over, unit: bar, weight: 1000}
+
+(a soft limit: a design beyond it is not refused, but costs the more the further it goes).
 
 Values are numbers in SI or "<number> <unit>" strings, checked against the parameter's unit and bounds.
 A load case's value wins over the same parameter in ``set:``; a varied parameter may be in neither.
@@ -193,6 +230,7 @@ class Job:
     sweep_names: list[str] = field(default_factory=list)
     sweep_points: list[dict[str, float]] = field(default_factory=list)
     fingerprint: str = ""
+    sources: dict[str, str] = field(default_factory=dict)  # every file the circuit is built from -> a digest
     start_values: dict[str, float] = field(default_factory=dict)  # the netlist's values of the free parameters
     units: dict[str, str] = field(default_factory=dict)  # parameter name -> unit for reports
     sweep_combine: str = "grid"
@@ -226,6 +264,13 @@ class Job:
             z.append(min(max(zi, 0.0), 1.0))
         return np.array(z)
 
+    def netlist_design_outside(self) -> str:
+        """Why the netlist's own design (its values of the free parameters) is not a design of the job: the
+        values outside the bounds, as a phrase; "" if it lies within them."""
+        outside = [f"{p.name} = {self.start_values[p.name]:g} is outside [{p.lower:g}, {p.upper:g}]"
+                   + (f" {p.unit}" if p.unit else "") for p in self.free if not p.lower <= self.start_values[p.name] <= p.upper]
+        return "; ".join(outside)
+
     def spec(self):
         from blocks.optimise.evaluate import EvalSpec
 
@@ -248,6 +293,9 @@ def _validate(located: Located) -> JobFile:
         model = JobFile.model_validate(located.data)
     except ValidationError as exc:
         raise (wrong_kind(located, "an optimisation job") or _located(located, exc, ())) from None
+    if model.scheduler and model.workers is not None:
+        raise located.error(("workers",), "workers: sets the local processes, which a job with scheduler: does not "
+                                          "use (the Dask cluster's workers evaluate); give one or the other")
     if model.scheduler:
         from blocks.optimise.executors import scheduler_problem
 
@@ -307,6 +355,12 @@ _ALL_FIELDS = {name for m in (JobFile, CostSpec, SweepSpec, SweepRange, TermSpec
                for name in m.model_fields}
 
 
+def source_digests(files: list[str]) -> dict[str, str]:
+    """File -> digest of its bytes, for every file a circuit is built from (``FlatCircuit.files``: the
+    netlist, its subsystem files, its data files); ``--resume`` refuses a log when one of them changed."""
+    return {file: hashlib.sha256(Path(file).read_bytes()).hexdigest()[:16] for file in files}
+
+
 def _dimension(output):
     """The dimension of a logged signal: its SI unit, or for a generic signal block the unit a port on its
     net declares (:class:`blocks.circuit.ResolvedOutput`), else the netlist's display unit
@@ -335,12 +389,15 @@ class _Resolver:
         self.circuit = Circuit.from_file(netlist, compile=False)
         self.table = self.circuit.flat.parameters
         self.entries = self.table.entries
-        name = m.name or Path(self.located.file).stem
+        name = self.name()
         fixed = {k: self.value(k, raw, ("set", k)) for k, raw in m.set.items()}
         free = [self.free_param(k, p) for k, p in m.parameters.items()]
         cases = [(case, {k: self.value(k, raw, ("load_cases", case, k)) for k, raw in values.items()})
                  for case, values in m.load_cases.items()] or [("nominal", {})]
         terms = [self.term(k, t) for k, t in m.cost.terms.items()]
+        if not any(t.weight > 0 for t in terms):
+            raise self.error(("cost", "terms"), "cost.terms: every weight is 0, so every design would cost 0 and "
+                             "nothing could be minimised or compared; give at least one term a weight above 0")
         method, settings = self.algorithm()
         sweep_names, sweep_points = self.sweep()
         varied = set(m.parameters) | set(sweep_names)
@@ -368,7 +425,19 @@ class _Resolver:
             sweep_combine=m.sweep.combine if m.sweep else "grid",
         )
         job.fingerprint = self.fingerprint(netlist)
+        job.sources = source_digests(self.circuit.flat.files)
         return job
+
+    def name(self) -> str:
+        """The job's name (default: the file's stem). It names the default output folder out/<name>, so it
+        must be a plain name: no path separator, not '.' or '..' (a folder outside out/)."""
+        given = self.model.name
+        if given is None:
+            return Path(self.located.file).stem
+        if given in ("", ".") or ".." in given or "/" in given or "\\" in given:
+            raise self.error(("name",), f"name: '{given}' is not a plain name; it names the output folder "
+                             f"(out/<name>), so give it without '/', '\\' or '..'")
+        return given
 
     def output(self, name: str) -> Path:
         """The output folder (relative to the working directory, not to the job file); a file in its place

@@ -61,6 +61,21 @@ def point_id(index: int, x) -> str:
     return f"{index:06d}-{digest}"
 
 
+def changed_source(old: dict[str, str] | None, new: dict[str, str] | None) -> str | None:
+    """Which file the circuit is built from changed between two ``sources`` (file -> digest), as a phrase
+    ("/x/parts/axis.yaml changed"); None if none did, or if either is unknown (a log of an older vphs)."""
+    if old is None or new is None:
+        return None
+    for file in {**old, **new}:
+        if file not in new:
+            return f"{file} is no longer read by the netlist"
+        if file not in old:
+            return f"{file} is now read by the netlist"
+        if old[file] != new[file]:
+            return f"{file} changed"
+    return None
+
+
 class EvaluationLog:
     """Read, check and append to ``<folder>/evaluations.jsonl``.
 
@@ -91,9 +106,15 @@ class EvaluationLog:
         self._syncer.start()
 
     @classmethod
-    def existing(cls, folder: Path, fingerprint: str, resume: bool) -> dict | None:
+    def existing(cls, folder: Path, fingerprint: str, resume: bool, sources: dict[str, str] | None = None) -> dict | None:
+        """``sources`` (file -> digest, the header's ``"sources"``) are the files the job's circuit is built
+        from; a log whose header lists them is refused, naming the file, if any of them changed. ``resume``
+        without a log is an error too (never a new job started silently)."""
         path = Path(folder) / LOG_NAME
         if not (path.exists() and path.stat().st_size > 0):
+            if resume:  # a mistyped output: or a deleted folder would otherwise start the job again silently
+                raise LogError(f"{folder}: --resume, but this output folder holds no evaluation log ({LOG_NAME}); "
+                               f"there is nothing to continue -- check the job's output:, or run without --resume")
             return None
         if path.is_dir():
             raise LogError(f"{path}: a folder, not a log")
@@ -103,6 +124,10 @@ class EvaluationLog:
             raise LogError(f"{path}: this job's output folder holds a log already ({log._count_lines()} lines); "
                            f"continue it with --resume, or give another output folder (or delete this one)")
         header = log._load()
+        changed = changed_source(header.get("sources"), sources)
+        if changed:
+            raise LogError(f"{path}: {changed} since the log was written; its results would not be this "
+                           f"circuit's, so the log cannot be resumed -- restore the file or use another output folder")
         if header.get("fingerprint") != fingerprint:
             raise LogError(f"{path}: the log was written by a different job (the job file, its settings or the "
                            f"netlist changed: fingerprint {header.get('fingerprint')} != {fingerprint}); it cannot "

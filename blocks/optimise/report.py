@@ -9,6 +9,8 @@ per load case the ``vphs run`` command line that simulates the best design again
 had the fixed values and the load case's, so the report gives the whole command line.
 The report covers the method's path only (:mod:`blocks.optimise.runner`): candidates evaluated ahead and
 discarded are counted, not shown.
+Beside the best, the report gives the cost of the netlist's own design (evaluated first, off the path) and
+warns when the best found is not better than it (:func:`netlist_comparison`, also on the console).
 Sweep (``<output>/sweep/``): ``report.md`` with the table of every point, ``sweep.csv`` and ``sweep.png``
 (the cost and each term against the parameter; a map of the cost over a two-parameter grid).
 
@@ -108,6 +110,49 @@ def run_commands(job, parameters: dict) -> dict[str, str]:
     return commands
 
 
+def netlist_comparison(summary) -> tuple[str, bool]:
+    """The netlist's own design against the best found, as one sentence, and whether it is a warning (the
+    best found is not better, or the netlist's design could not be compared)."""
+    job, best, start = summary.job, summary.best, summary.netlist_design
+    if summary.netlist_skipped:
+        return f"the netlist's own design was not evaluated: {summary.netlist_skipped}", False
+    if start is None:
+        return "", False
+    if start["status"] != "ok":
+        return f"the netlist's own design failed ({start.get('error')})", False
+    if best is None:
+        return f"the netlist's own design costs {_fmt(start['cost'])}; no design of the method worked", True
+    if best["cost"] >= start["cost"]:
+        return (f"the best design found (cost {_fmt(best['cost'])}) is NOT better than the netlist's own design "
+                f"(cost {_fmt(start['cost'])}): keep the netlist's values, or give the method more evaluations "
+                f"or other bounds"), True
+    return (f"the netlist's own design costs {_fmt(start['cost'])}; the best found is "
+            f"{_fmt(100 * (1 - best['cost'] / start['cost']), 3)} % lower" if start["cost"] > 0 else
+            f"the netlist's own design costs {_fmt(start['cost'])}"), False
+
+
+def warnings(summary) -> list[str]:
+    """What the reader must not miss, as sentences, for the report and the console alike: the best found no
+    better than the netlist's own design; working designs costlier than a failed one (the penalty too
+    low); differential evolution with a budget that only samples its initial population."""
+    from blocks.optimise.scipy_methods import de_generations
+
+    job, out = summary.job, []
+    comparison, warn = netlist_comparison(summary)
+    if warn:
+        out.append(comparison)
+    if summary.above_penalty:
+        out.append(f"{summary.above_penalty} working designs cost more than the penalty of a failed simulation "
+                   f"({_fmt(job.penalty)}), so failures ranked as better than they; raise cost.penalty in the job")
+    if summary.command == "optimise" and job.method == "differential_evolution" \
+            and de_generations(job.settings, len(job.free)) == 0:
+        size = job.settings.popsize * len(job.free)
+        out.append(f"differential evolution only sampled: max_evaluations = {job.settings.max_evaluations} allows "
+                   f"its initial population of popsize * n = {size} random designs and no generation after it, so "
+                   f"the best is the best of those samples; give max_evaluations >= {2 * size} for it to evolve")
+    return out
+
+
 def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     job, best = summary.job, summary.best
     s = job.settings
@@ -128,9 +173,11 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
              ""]
-    if summary.above_penalty:
-        lines += [f"**Warning:** {summary.above_penalty} working designs cost more than the penalty of a failed "
-                  f"simulation ({_fmt(job.penalty)}), so failures ranked as better than they; raise cost.penalty.", ""]
+    for warning in warnings(summary):
+        lines += [f"**Warning:** {warning[0].upper()}{warning[1:]}.", ""]
+    comparison, warn = netlist_comparison(summary)
+    if comparison and not warn:
+        lines += [f"{comparison[0].upper()}{comparison[1:]}.", ""]
     if best is None:
         lines += ["**No evaluation succeeded.** The errors:", ""]
         lines += [f"- {e}" for e in _distinct_errors(records)] + [""]
@@ -227,6 +274,16 @@ def _resimulate(job, parameters: dict) -> dict:
     return out
 
 
+def error_label(term) -> str:
+    """What a max_abs term plots: its signal minus its reference (a logged signal or a constant in the
+    term's unit), or the signal alone when it has no reference (not "pA - 0")."""
+    if term.reference is not None:
+        return f"{term.signal} - {term.reference}"
+    if term.offset != 0.0:
+        return f"{term.signal} - {_fmt(term.offset / term.scale)} {term.unit}".rstrip()
+    return term.signal
+
+
 def _signals_plot(job, results: dict, path: Path, title: str) -> None:
     from blocks.optimise.costs import term_signal
 
@@ -245,8 +302,7 @@ def _signals_plot(job, results: dict, path: Path, title: str) -> None:
                         label=f"{term.signal} high-passed{label}")
             elif term.kind == "max_abs":
                 error = term_signal(term, t, result)
-                ref = term.reference or _fmt(term.offset / term.scale)
-                ax.plot(t, error, color=colour, lw=0.9, label=f"{term.signal} - {ref}{label}")
+                ax.plot(t, error, color=colour, lw=0.9, label=f"{error_label(term)}{label}")
                 k_max = int(np.argmax(np.abs(error)))
                 ax.plot(t[k_max], error[k_max], "o", color=colour, label=f"max |error| {_fmt(abs(error[k_max]), 4)}")
             else:

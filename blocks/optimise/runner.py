@@ -10,6 +10,12 @@ given the seed, the batching and the costs, the resumed run retraces the interru
 on from where it stopped; the batching (``candidates`` of the Complex method) is taken from the log's
 header, not from the number of workers of the resumed run.
 
+Before the method starts, ``optimise`` evaluates the netlist's own design (its values of the free
+parameters, with the job's fixed values and load cases) once, as evaluation 0 of the log (step
+"netlist"), so that the report can say whether the method found better; it is off the method's path (not
+counted in its budget nor in its result). A netlist value outside the job's bounds is not a design of the
+job: it is then not evaluated, and the report says why.
+
 The result (the best design, the evaluations counted, the failures) is taken over the method's path only:
 the Complex method evaluates retractions ahead in parallel and discards those it turns out not to need
 (:mod:`blocks.optimise.complex`); they stay in the log, marked discarded, but are left out of the summary,
@@ -31,14 +37,14 @@ from pathlib import Path
 import numpy as np
 
 from blocks.optimise.complex import ComplexSettings, complex_minimise
-from blocks.optimise.executors import make_executor
+from blocks.optimise.executors import EvaluationLost, Terminated, make_executor
 from blocks.optimise.job import Job
 from blocks.optimise.log import EvaluationLog, point_id
 from blocks.optimise.scipy_methods import differential_evolution, nelder_mead
 
 
 class Interrupted(Exception):
-    """Ctrl-C: the evaluations finished so far are in the log."""
+    """Ctrl-C (or SIGTERM, ``summary.reason`` "terminated"): the evaluations finished so far are in the log."""
 
     def __init__(self, summary: "Summary"):
         self.summary = summary
@@ -57,6 +63,8 @@ class Summary:
     replayed: int = 0  # answered from the log (on the path or not)
     failed: int = 0  # on the path
     best: dict | None = None  # on the path
+    netlist_design: dict | None = None  # the record of the netlist's own design (evaluated first, off the path)
+    netlist_skipped: str = ""  # why the netlist's own design was not evaluated (a value outside the bounds)
     reason: str = ""
     seconds: float = 0.0
     iterations: int = 0
@@ -92,7 +100,7 @@ class Progress:
         self.last = now
         elapsed = now - self.started
         rate = s.evaluated / elapsed if elapsed > 0 else 0.0
-        kept = s.total - len(s.discarded)  # on the path, or in a batch not yet decided
+        kept = s.total - len(s.discarded) - (s.netlist_design is not None)  # on the path, or not yet decided
         done = f"{kept}/{self.total}" if self.total else f"{kept}"
         best = f"{s.best['cost']:.6g}" if s.best else "-"
         notes = [f"{n} {what}" for n, what in ((len(s.discarded), "more discarded"), (s.replayed, "from the log")) if n]
@@ -118,7 +126,8 @@ class Runner:
         self.next_index = 0
         self.batch: list[dict] = []  # the last batch's records, until the method says which are on its path
 
-    def __call__(self, points: list, info: list[dict]) -> list[float]:
+    def __call__(self, points: list, info: list[dict], designs: list[dict] | None = None) -> list[float]:
+        """The costs of ``points`` (``designs``: their SI values, if not ``to_design`` of the points)."""
         self.on_path()  # a method that said nothing about its last batch used all of it
         first, self.next_index = self.next_index, self.next_index + len(points)
         batch: list[dict | None] = [None] * len(points)
@@ -131,7 +140,7 @@ class Runner:
             else:
                 todo.append(pos)
         if todo:
-            designs = [self.to_design(points[pos]) for pos in todo]
+            designs = [designs[pos] if designs else self.to_design(points[pos]) for pos in todo]
             for k, outcome in self.executor.run(designs):
                 pos = todo[k]
                 x = [float(v) for v in points[pos]]
@@ -143,6 +152,13 @@ class Runner:
                 self.progress.show(self.summary)
         self.batch = batch
         return [record["cost"] for record in batch]
+
+    def aside(self, z, design: dict, step: str) -> dict:
+        """One evaluation off the method's path (the netlist's own design): logged and answered from the log
+        on ``--resume`` like any other, never part of the result; its record."""
+        self([z], [{"step": step, "iteration": 0, "n_rep": 0}], [design])
+        record, self.batch = self.batch[0], []
+        return record
 
     def on_path(self, used: int | None = None) -> None:
         """The first ``used`` points of the last batch (all if None) are on the method's path: they make the
@@ -170,12 +186,21 @@ class Runner:
 
 def _open(job: Job, command: str, folder: Path, resume: bool, workers, scheduler, client, header_extra):
     """Check the output folder's log, start the executor, open the log (``header_extra(executor, old_header)``
-    gives the method's entries of a new header)."""
+    gives the method's entries of a new header). ``workers`` with a Dask scheduler is refused: the cluster's
+    workers evaluate, and a number of local processes would be ignored."""
+    if workers is not None and (scheduler or job.scheduler or client is not None):
+        from blocks.errors import VphsError
+
+        where = f"--scheduler {scheduler}" if scheduler else \
+            f"the job's scheduler: {job.scheduler}" if job.scheduler else "a Dask client"
+        raise VphsError(f"--workers {workers} sets the local processes, but {where} evaluates on the Dask cluster's "
+                        f"workers; give one or the other")
     fingerprint = f"{job.fingerprint}-{command}"
-    old = EvaluationLog.existing(folder, fingerprint, resume)  # refuses a foreign log before any worker starts
+    old = EvaluationLog.existing(folder, fingerprint, resume, job.sources)  # a foreign log, before any worker starts
     executor = make_executor(job.spec(), workers or job.workers, scheduler or job.scheduler, client)
     header = {"type": "job", "fingerprint": fingerprint, "job": str(job.file), "name": job.name,
-              "command": command, "netlist": job.netlist, "seed": job.seed, **header_extra(executor, old)}
+              "command": command, "netlist": job.netlist, "seed": job.seed, "sources": job.sources,
+              **header_extra(executor, old)}
     try:
         log = EvaluationLog(folder, header)
     except BaseException:
@@ -210,6 +235,9 @@ def run_optimise(job: Job, resume: bool = False, workers: int | None = None, sch
     progress = Progress(budget, not quiet, stream)
     runner = Runner(job, log, executor, summary, progress, job.values)
     with _running(executor, log, progress, summary):
+        summary.netlist_skipped = job.netlist_design_outside()
+        if not summary.netlist_skipped:  # first: in the log (index 0) and resumed like the method's points
+            summary.netlist_design = runner.aside(job.coordinates(job.start_values), dict(job.start_values), "netlist")
         if job.method == "complex":
             result = complex_minimise(runner, job.lower, job.upper, settings, job.seed, on_path=runner.on_path)
         elif job.method == "nelder_mead":
@@ -256,14 +284,20 @@ def run_sweep(job: Job, resume: bool = False, workers: int | None = None, schedu
 @contextlib.contextmanager
 def _running(executor, log, progress, summary: Summary):
     """Times the job's evaluations into ``summary.seconds`` and closes the executor, the log and the
-    progress line however the job ends; Ctrl-C becomes :class:`Interrupted` (the summary so far)."""
+    progress line however the job ends; Ctrl-C becomes :class:`Interrupted` (the summary so far), and
+    an evaluation the cluster lost (:class:`~blocks.optimise.executors.EvaluationLost`) gets the summary
+    so far as its ``summary``."""
     started = time.perf_counter()
     interrupted = False
     try:
         yield
-    except KeyboardInterrupt:
+    except KeyboardInterrupt as exc:
         interrupted = True
-        summary.reason = "interrupted"
+        summary.reason = "terminated" if isinstance(exc, Terminated) else "interrupted"
+    except EvaluationLost as exc:
+        summary.reason = "an evaluation lost by the cluster"
+        exc.summary = summary
+        raise
     finally:
         summary.seconds = time.perf_counter() - started
         try:

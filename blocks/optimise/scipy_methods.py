@@ -45,6 +45,12 @@ class DESettings:
     polish: bool = False
 
 
+def de_generations(s: DESettings, n: int) -> int:
+    """The generations after the initial population of popsize * n designs that the budget allows (scipy's
+    ``maxiter``); 0: the method only samples its initial population (Latin hypercube) and evolves nothing."""
+    return max(0, s.max_evaluations // (s.popsize * n) - 1)
+
+
 class _Budget(Exception):
     pass
 
@@ -121,7 +127,7 @@ def differential_evolution(evaluate: Callable, lower, upper, settings: DESetting
 
     try:
         res = scipy_de(lambda x: counter.batch([x], "polish")[0], list(zip(lower, upper)), strategy=s.strategy,
-                       maxiter=max(0, s.max_evaluations // size - 1), popsize=s.popsize, tol=s.tol, atol=s.atol,
+                       maxiter=de_generations(s, n), popsize=s.popsize, tol=s.tol, atol=s.atol,
                        mutation=s.mutation, recombination=s.recombination, seed=seed, polish=s.polish,
                        updating="deferred", workers=mapper)
         reason = "converged" if res.success else "budget"

@@ -62,3 +62,81 @@ def test_a_job_runs_on_a_dask_local_cluster(tmp_path):
     assert {pid for r in records(by_cli.output / "sweep").values() for pid in r["pids"]} <= worker_pids
     assert {i: r["cost"] for i, r in records(by_cli.output / "sweep").items()} == \
         {i: r["cost"] for i, r in records(on_dask.output / "sweep").items()}
+
+
+def on_path(s) -> list:
+    return [(r["x"], r["cost"], r["status"]) for r in sorted(s.records, key=lambda r: r["index"])]
+
+
+def test_a_worker_killed_mid_job_loses_no_design(tmp_path, monkeypatch):
+    """kill -9 of the only worker takes the scattered spec with it; the nanny starts a new worker. The
+    evaluations lost are submitted again, none is logged as failed, and the result is the one-worker run's."""
+    import signal
+    from distributed import Client, LocalCluster
+
+    from blocks.optimise import executors, runner
+
+    class KillingAtBatch3(executors.DaskExecutor):
+        batches = 0
+
+        def run(self, designs):
+            KillingAtBatch3.batches += 1
+            if KillingAtBatch3.batches == 3:
+                for pid in self.client.run(os.getpid).values():
+                    os.kill(pid, signal.SIGKILL)
+            return super().run(designs)
+
+    monkeypatch.setattr(runner, "make_executor", lambda spec, workers, scheduler, client: KillingAtBatch3(spec, client=client))
+    on_dask, here = job(tmp_path, "dask"), job(tmp_path, "serial")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        first_pids = set(client.run(os.getpid).values())
+        s = run_optimise(on_dask, client=client, quiet=True, report=False)
+        later_pids = set(client.run(os.getpid).values())
+    assert KillingAtBatch3.batches > 3 and later_pids.isdisjoint(first_pids)  # the worker was replaced
+    assert s.failed == 0 and all(r["status"] == "ok" for r in records(on_dask.output).values())
+    assert on_path(s) == on_path(run_optimise(here, workers=1, quiet=True, report=False))
+
+
+def _lost(*args):
+    from distributed.client import FutureCancelledError
+
+    raise FutureCancelledError("evaluate_case-x", reason="lost dependencies")
+
+
+class LosingClient:
+    """A client whose cluster loses every task after the first ``keep`` (as if its workers kept dying)."""
+
+    def __init__(self, client, keep: int):
+        self.client, self.keep = client, keep
+
+    def __getattr__(self, name):
+        return getattr(self.client, name)
+
+    def submit(self, fn, *args, **kwargs):
+        self.keep -= 1
+        return self.client.submit(fn if self.keep >= 0 else _lost, *args, **kwargs)
+
+
+def test_an_evaluation_the_cluster_keeps_losing_stops_the_job_resumably(tmp_path, monkeypatch, capsys):
+    from distributed import Client, LocalCluster
+
+    import cli
+    from blocks.optimise import executors, runner
+
+    on_dask, here = job(tmp_path, "dask"), job(tmp_path, "serial")
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        monkeypatch.setattr(runner, "make_executor", lambda spec, workers, scheduler, _:
+                            executors.DaskExecutor(spec, client=LosingClient(client, keep=10)))
+        code = cli.main(["optimise", on_dask.file, "-q"])
+    err = capsys.readouterr().err.strip()
+    assert code == 1 and len(err.splitlines()) == 1, err
+    assert "lost an evaluation 4 times" in err and f"vphs optimise {on_dask.file} --resume" in err
+    logged = records(on_dask.output)
+    assert sorted(logged) == list(range(len(logged))) and 0 < len(logged) <= 10  # nothing lost was logged
+    assert all(r["status"] == "ok" for r in logged.values())
+    monkeypatch.undo()
+    resumed = run_optimise(load_job(on_dask.file), resume=True, workers=1, quiet=True, report=False)
+    assert resumed.replayed == len(logged)
+    assert on_path(resumed) == on_path(run_optimise(here, workers=1, quiet=True, report=False))

@@ -82,6 +82,11 @@ def test_values_in_units_are_converted_to_si(tmp_path):
     (("{min: 1, max: 40, log: true}", "{min: true, max: 40, log: true}"), 4, "parameters.Kp.min: true is not a number"),
     (("weight: 50}", "weight: yes}"), 8, "cost.terms.pos.weight: true is not a number"),  # was weight 1
     (("max_evaluations: 50}", "max_evaluations: on}"), 13, "algorithm.max_evaluations: true is not a number"),
+    # review: workers: was silently ignored beside scheduler:; a name with '..' or '/' wrote outside out/
+    (("seed: 3", "seed: 3\nworkers: 2\nscheduler: tcp://127.0.0.1:8786"), 3, "workers: sets the local processes"),
+    (("seed: 3", "seed: 3\nname: ../../escaped"), 3, "name: '../../escaped' is not a plain name"),
+    (("seed: 3", "seed: 3\nname: sub/dir"), 3, "name: 'sub/dir' is not a plain name"),
+    (("seed: 3", "seed: 3\nname: '..'"), 3, "name: '..' is not a plain name"),
 ])
 def test_mistakes_are_located(tmp_path, change, line, message):
     text = GOOD.replace(*change)
@@ -93,6 +98,25 @@ def test_mistakes_are_located(tmp_path, change, line, message):
     assert message in str(error), str(error)
     assert error.file == str(path) and error.line == line, str(error)
     assert "\n" not in str(error)
+
+
+def test_a_cost_whose_weights_are_all_zero_is_refused(tmp_path):
+    """Review: every design cost 0, and the job reported a 'best' among equals."""
+    text = GOOD.replace("weight: 50}", "weight: 0}").replace("weight: 3e-8}", "weight: 0}")
+    with pytest.raises(NetlistError) as info:
+        load_job(write(tmp_path, text))
+    assert "cost.terms: every weight is 0" in str(info.value) and info.value.line == 7
+
+
+def test_workers_beside_a_scheduler_is_refused_on_the_command_line(tmp_path, capsys):
+    """Review: --scheduler ADDR --workers N ignored --workers silently."""
+    import cli
+
+    path = write(tmp_path, GOOD)
+    assert cli.main(["optimise", str(path), "--scheduler", "tcp://127.0.0.1:9", "--workers", "2"]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("vphs: --workers 2 sets the local processes, but --scheduler tcp://127.0.0.1:9") \
+        and err.count("\n") == 1, err
 
 
 def test_a_netlist_given_as_a_job_says_so(tmp_path):

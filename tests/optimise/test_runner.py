@@ -63,7 +63,8 @@ def test_serial_job_logs_every_evaluation_once_and_reports(tmp_path):
     s = run_optimise(job, workers=1, quiet=True)
     records = evaluations(job.output)
     assert sorted(r["index"] for r in records) == list(range(s.total)) and s.evaluated == s.total
-    assert len(s.records) == 24 and s.total == 24 + len(s.discarded)  # the budget counts the path
+    assert len(s.records) == 24 and s.total == 1 + 24 + len(s.discarded)  # the budget counts the path
+    assert records[0]["step"] == "netlist" and records[0]["parameters"] == job.start_values  # off the path
     on_path = {r["index"] for r in s.records}
     best = min((r for r in records if r["index"] in on_path), key=lambda r: r["cost"])
     assert s.best["index"] == best["index"] and s.best["cost"] == best["cost"]
@@ -120,7 +121,8 @@ def test_the_result_does_not_depend_on_the_number_of_workers(tmp_path):
     saved = [json.loads((s.folder / "best.json").read_text()) for s in (one, two)]
     assert saved[0]["parameters"] == saved[1]["parameters"] and saved[0]["cost"] == saved[1]["cost"]
     # the best design's number is its place on the path (the log's index also counts the discarded ones)
-    assert saved[0]["evaluation"] == saved[1]["evaluation"] == saved[0]["log_index"] < saved[1]["log_index"]
+    # (and the netlist's own design, evaluated first: log index 0)
+    assert saved[0]["evaluation"] == saved[1]["evaluation"] == saved[0]["log_index"] - 1 < saved[1]["log_index"] - 1
     report = (two.folder / "report.md").read_text()
     assert f"## Best design: evaluation {saved[0]['evaluation']} of the path (in the log: {saved[1]['log_index']})" \
         in report
@@ -129,7 +131,7 @@ def test_the_result_does_not_depend_on_the_number_of_workers(tmp_path):
     # the log keeps every evaluation once and says which were discarded
     header, logged = read_log(two.folder)
     assert sorted(r["index"] for r in logged if r.get("discarded")) == sorted(r["index"] for r in two.discarded)
-    assert len(logged) == two.total == len(one.records) + len(two.discarded)
+    assert len(logged) == two.total == 1 + len(one.records) + len(two.discarded)
 
 
 def test_the_report_says_how_to_simulate_the_best_design_again(tmp_path, monkeypatch):
@@ -179,14 +181,34 @@ def test_scipy_methods_run_as_jobs(tmp_path, algorithm):
     job = load_job(path)
     s = run_optimise(job, workers=2, quiet=True)
     records = evaluations(job.output)
-    assert sorted(r["index"] for r in records) == list(range(s.total)) and 0 < s.total <= 30
-    assert s.best["cost"] == min(r["cost"] for r in records)
+    assert sorted(r["index"] for r in records) == list(range(s.total)) and 0 < s.total <= 1 + 30
+    assert records[0]["step"] == "netlist" and s.best["cost"] == min(r["cost"] for r in records[1:])
     if "nelder_mead" in algorithm:  # starts at the netlist's values Kp = 4, Kv = 0.4
-        assert records[0]["parameters"] == pytest.approx({"Kp": 4.0, "Kv": 0.4})
+        assert records[1]["parameters"] == pytest.approx({"Kp": 4.0, "Kv": 0.4})
     else:
-        pids = {pid for r in records for pid in r["pids"]}
-        assert {r["step"] for r in records} == {"generation"} and len(pids) == 2 and os.getpid() in pids
+        pids = {pid for r in records[1:] for pid in r["pids"]}
+        assert {r["step"] for r in records[1:]} == {"generation"} and len(pids) == 2 and os.getpid() in pids
     assert "## Best design" in (job.output / "report.md").read_text()
+
+
+@pytest.mark.parametrize("budget,sampled", [(15, True), (20, False)])
+def test_differential_evolution_that_only_samples_says_so(tmp_path, capsys, budget, sampled):
+    """Review: a budget below two generations evaluates the initial population (popsize * n = 10 random
+    designs) and nothing after it; the report and the console said nothing."""
+    import cli
+
+    path = small_job(tmp_path, budget=budget)
+    path.write_text(path.read_text().replace(
+        f"algorithm: {{method: complex, max_evaluations: {budget}, tol_x: 0, tol_f: 0, candidates: 2}}",
+        f"algorithm: {{method: differential_evolution, max_evaluations: {budget}, popsize: 5}}"))
+    assert cli.main(["optimise", str(path), "--workers", "1", "-q"]) == 0
+    steps = Counter(r["step"] for r in evaluations(tmp_path / "out"))
+    assert steps["generation"] == (10 if sampled else 20)  # the budget's generations: 1 or 2
+    report = (tmp_path / "out" / "report.md").read_text()
+    warning = "differential evolution only sampled: max_evaluations = 15 allows its initial population of " \
+              "popsize * n = 10 random designs"
+    assert (warning in report.replace("Differential", "differential")) == sampled
+    assert (f"vphs: warning: {warning}" in capsys.readouterr().err) == sampled
 
 
 def test_failed_simulations_are_recorded_with_a_penalty_and_the_job_goes_on(tmp_path):
@@ -261,9 +283,9 @@ def test_a_line_cut_short_by_a_kill_is_dropped(tmp_path):
     lines = log.read_text().splitlines(keepends=True)
     log.write_text("".join(lines[:-2]) + lines[-2][:40])  # the last evaluation lost, the one before torn
     s = run_optimise(job, resume=True, workers=1, quiet=True, report=False)
-    assert (s.replayed, s.evaluated) == (8, 2)
+    assert (s.replayed, s.evaluated) == (9, 2)  # the netlist's design and 8 of the path
     header, records = read_log(job.output)
-    assert [r["index"] for r in records] == list(range(10))
+    assert [r["index"] for r in records] == list(range(11))
     assert all(line.startswith("{") and line.endswith("}") for line in log.read_text().splitlines())
 
 
@@ -319,7 +341,8 @@ def test_interrupt_kill_and_resume_lose_nothing_and_repeat_nothing(tmp_path, wor
     assert not [r for r in final if r["status"] != "ok"]
     counts = Counter(r["index"] for r in final)
     assert sorted(counts) == list(range(len(counts))) and max(counts.values()) == 1
-    assert len([r for r in read_log(log.parent)[1] if not r.get("discarded")]) == 150  # the budget: the path
+    assert len([r for r in read_log(log.parent)[1] if not r.get("discarded") and r["step"] != "netlist"]) == 150
+    # the budget: the path
     kept = by_index(second)
     assert {i: v for i, v in by_index(final).items() if i in kept} == kept  # nothing re-evaluated
 
@@ -327,6 +350,22 @@ def test_interrupt_kill_and_resume_lose_nothing_and_repeat_nothing(tmp_path, wor
     run_optimise(reference, workers=1, quiet=True, report=False)
     assert by_index(evaluations(reference.output)) == by_index(final)
     assert (log.parent / "report.md").exists()
+
+
+def test_sigterm_stops_the_job_as_ctrl_c_does_with_the_resume_hint(tmp_path):
+    """Review: SIGTERM (kill, a batch system's time limit) exited 143 without a word."""
+    path = small_job(tmp_path, budget=150, cases=3, out="terminated")
+    log = tmp_path / "terminated" / LOG_NAME
+    p = _start(["optimise", str(path), "--workers", "1"], tmp_path)
+    _wait_for_evaluations(p, log, 20)
+    p.terminate()
+    out, err = p.communicate(timeout=60)
+    assert p.returncode == 143, err
+    assert err.splitlines()[-1].startswith("vphs: terminated; ") and f"vphs optimise {path} --resume" in err
+    first = evaluations(log.parent)
+    assert 20 <= len(first) < 151 and all(r["status"] == "ok" for r in first)  # none cut into a failure
+    p = _start(["optimise", str(path), "--workers", "1", "--resume", "-q"], tmp_path)
+    assert p.wait(timeout=120) == 0 and all(r["status"] == "ok" for r in evaluations(log.parent))
 
 
 def test_cli_bad_job_is_one_line_exit_2(tmp_path, capsys):
