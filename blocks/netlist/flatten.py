@@ -88,10 +88,15 @@ class FlatCircuit:
     subsystem files, the data files of its ``{csv:, column:}`` parameters (what a result depends on)."""
 
     def resolve_alias(self, name: str) -> str:
-        seen = 0
-        while name in self.aliases and seen < 50:
-            name, seen = self.aliases[name], seen + 1
-        return name
+        return follow_aliases(self.aliases, name)
+
+
+def follow_aliases(aliases: dict[str, str], name: str) -> str:
+    """What ``name`` is under its other names (an exposed port through nested subsystems), at most 50 deep."""
+    seen = 0
+    while name in aliases and seen < 50:
+        name, seen = aliases[name], seen + 1
+    return name
 
 
 def load_netlist(file: str | Path) -> spec.Netlist:
@@ -191,6 +196,7 @@ class _Builder:
         self.default_volume: dict[str, tuple | None] = {}
         self.auto_bulk: set[str] = set()
         self.subsystem_names: set[str] = set()
+        self.subsystem_where: dict[str, tuple[Located, tuple, str]] = {}  # name -> where declared, its file
         # each file's scope, prefix and nets, for the dotted names of its nets' initial values (A.initial),
         # known once the nets are merged: a net joined to another through a subsystem port has one start
         self.net_scopes: list[tuple[dict[str, str], str, list[str]]] = []
@@ -382,6 +388,22 @@ class _Builder:
             raise located.error(path, f"{name}: {param.name} takes a non-empty list of values or {{csv:, column:}}")
         return make_array_entry(entry_name, raw, param.unit, scope, located, path, param)
 
+    def _unconnected_exposed(self, port: str, kind: str) -> str:
+        """An inner port left unconnected because the file using its subsystem does not connect the port
+        the subsystem exposes it as: raised at that subsystem, in that file (the one to mend). A port the
+        top file itself exposes (a subsystem part validated alone) gets a hint to add; else ''."""
+        exposed = sorted((name for name in self.aliases if follow_aliases(self.aliases, name) == port),
+                         key=lambda name: name.count("."))
+        if not exposed:
+            return ""
+        if "." not in exposed[0]:
+            return (f" (this file is a subsystem part: it exposes it as {exposed[0]} under ports:, which the "
+                    f"netlist using it connects; validate that netlist)")
+        sub, _, local = exposed[0].rpartition(".")
+        located, path, file = self.subsystem_where[sub]
+        raise located.error(path, f"subsystem '{sub.rsplit('.', 1)[-1]}': its port {local} ({kind}) is not "
+                                  f"connected (it is {port[len(sub) + 1:]} inside {file})")
+
     def _add_subsystem(self, prefix: str, name: str, sub: spec.Subsystem, located: Located, scope: dict,
                        stack: tuple, fluid: dict[str, str], default_volume, passed: dict) -> None:
         """Expand a subsystem; its ``parameters:`` (read in this file's ``scope``) and what the file using
@@ -412,6 +434,7 @@ class _Builder:
                          default_volume)
         del self.components[qualified]
         self.subsystem_names.add(qualified)
+        self.subsystem_where[qualified] = (located, path, sub.netlist)
 
     # ---- nets ---------------------------------------------------------------------------------------
     def resolve_nets(self) -> dict[str, FlatNet]:
@@ -475,7 +498,9 @@ class _Builder:
         for comp_name, comp in self.components.items():
             for port in comp.cls.ports:
                 if (comp_name, port.name) not in owner and not port.optional and port.direction != "out":
-                    raise comp.source.error(comp.path, f"port {comp_name}.{port.name} ({port.kind.value}) is not connected")
+                    hint = self._unconnected_exposed(f"{comp_name}.{port.name}", port.kind.value)
+                    raise comp.source.error(comp.path, f"port {comp_name}.{port.name} ({port.kind.value}) is not "
+                                                       f"connected" + hint)
         for flat in merged.values():
             if not flat.ports:
                 raise flat.source.error(flat.path, f"net '{flat.name}' connects no ports")
@@ -591,7 +616,8 @@ def read_csv_column(file: Path, column: str, unit: str, located: Located, path: 
         raise located.error(path, f"{file}: column '{column}' is in {written}, expected a quantity in {unit}")
     values = table.columns[name]
     if not np.all(np.isfinite(values)):
-        raise located.error(path, f"{file}: column '{column}' has empty cells")
+        row = int(np.argmin(np.isfinite(values)))
+        raise located.error(path, f"{file}:{table.lines[row]}: column '{column}' has an empty cell")
     if values.size == 0:
         raise located.error(path, f"{file}: column '{column}' has no values")
     return tuple(float(v) for v in values)

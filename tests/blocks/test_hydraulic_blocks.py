@@ -246,7 +246,7 @@ def test_motor_friction_is_the_lost_fraction_of_hydraulic_torque_opposing_motion
 
 
 # ---------------------------------------------------------------- 4/3 valve
-VALVE = dict(A_max=125e-6, x_db=0.02, A_leak=0.0, Cd=0.7, dp_t=1e5, rho=RHO)
+VALVE = dict(A_max=125e-6, x_db=0.02, A_leak=0.0, A_float=0.0, A_bypass=0.0, x_c=0.05, Cd=0.7, dp_t=1e5, rho=RHO)
 PS, PT, PA, PB = 207 * BAR, 0.0, 90 * BAR, 40 * BAR
 
 
@@ -301,13 +301,34 @@ def test_valve_reverse_flow_is_negative():
     assert d["q_A"] < 0 and d["q_P"] > 0
 
 
+@pytest.mark.parametrize("x", [0.0, 0.01, -0.02])
+def test_valve_centre_passages_float_tandem_open(x):
+    """In the centre (|x| < x_c = 0.05) A and B drain to T through A_float*(1 - |x|/x_c) each, P to T
+    through A_bypass*(1 - |x|/x_c); inside the dead band no metering edge is open."""
+    open_ = 1.0 - abs(x) / 0.05
+    float_ = valve(x, A_float=20e-6)
+    assert float_["q_A"] == pytest.approx(-edge(PA - PT, 20e-6 * open_), rel=1e-12)
+    assert float_["q_B"] == pytest.approx(-edge(PB - PT, 20e-6 * open_), rel=1e-12)
+    assert float_["q_P"] == 0.0
+    tandem = valve(x, A_bypass=30e-6)
+    assert tandem["q_P"] == pytest.approx(-edge(PS - PT, 30e-6 * open_), rel=1e-12)
+    assert tandem["q_A"] == tandem["q_B"] == 0.0  # the work ports held
+    both = valve(x, A_float=20e-6, A_bypass=30e-6)
+    assert both["q_T"] == pytest.approx(float_["q_T"] + tandem["q_T"], rel=1e-12)
+
+
+def test_valve_centre_passages_shut_once_the_spool_leaves_the_centre():
+    for x in (0.05, -0.3, 1.0):
+        assert valve(x, A_float=20e-6, A_bypass=30e-6) == valve(x)
+
+
 @settings(max_examples=300, deadline=None)
 @given(
     P=st.floats(0, 4e7), T=st.floats(0, 4e7), A=st.floats(0, 4e7), B=st.floats(0, 4e7),
-    x=st.floats(-1, 1), leak=st.sampled_from([0.0, 1e-9, 1e-6]),
+    x=st.floats(-1, 1), leak=st.sampled_from([0.0, 1e-9, 1e-6]), centre=st.sampled_from([0.0, 2e-5]),
 )
-def test_valve_conserves_flow(P, T, A, B, x, leak):
-    d = valve(x, P=P, T=T, A=A, B=B, A_leak=leak)
+def test_valve_conserves_flow(P, T, A, B, x, leak, centre):
+    d = valve(x, P=P, T=T, A=A, B=B, A_leak=leak, A_float=centre, A_bypass=centre / 2)
     total = sum(d.values())
     scale = sum(abs(v) for v in d.values()) + 1e-300
     assert abs(total) <= 1e-12 * scale

@@ -96,6 +96,14 @@ def test_a_data_file_column_without_unit_is_named_as_such(tmp_path):
     assert "ref.csv: column 'x_ref' has no unit in its header" in message and "'x_ref [<unit>]'" in message
 
 
+def test_an_empty_cell_in_a_data_file_column_is_named_by_its_line(tmp_path):
+    (tmp_path / "ref.csv").write_text("# a comment\nt [s],x_ref [mm]\n0,100\n1,\n2,200\n")
+    text = CYLINDER.replace("ref:  {type: constant, params: {value: VALUE}}",
+                            "ref:  {type: profile, params: {times: {csv: ref.csv, column: t}, "
+                            "values: {csv: ref.csv, column: x_ref}}}")
+    assert "ref.csv:4: column 'x_ref' has an empty cell" in error(tmp_path, text=text)
+
+
 def test_the_ramp_slope_takes_a_signal_unit_per_second(tmp_path):
     """'100 mm/s' was refused (expected 1/s) though y0 and y1 take any unit."""
     text = CYLINDER.replace("ref:  {type: constant, params: {value: VALUE}}",
@@ -184,3 +192,22 @@ def test_a_subsystem_override_that_names_nothing_is_refused_where_written(tmp_pa
     with pytest.raises(VphsError) as caught:
         subsystems(tmp_path, top)
     assert "top.yaml:5:" in str(caught.value) and words in str(caught.value)
+
+
+def test_a_subsystem_port_left_unconnected_is_said_at_the_subsystem_in_the_file_using_it(tmp_path):
+    """It named the inner port (heavy.dcv.x) at the part's line, not the port the using file forgot."""
+    part = PART.replace("ports: {P: valve.P, T: valve.T}", "ports: {P: valve.P, T: valve.T, cmd: valve.x}")
+    part = part.replace("  cmd:   {type: constant, params: {value: 0.5}}\n", "").replace("  x: [cmd.y, valve.x]\n", "")
+    (tmp_path / "part.yaml").write_text(part)
+    top = TOP.replace("  right: {netlist: middle.yaml, parameters: {lift.valve.Cd: 0.6}}\n", "")
+    top = top.replace("  deep:  {netlist: middle.yaml, parameters: {lift.valve.A_max: \"40 mm^2\"}}\n", "")
+    top = top.replace(", right.P, deep.P]", "]").replace(", right.T, deep.T]", "]")
+    (tmp_path / "top.yaml").write_text(top)
+    with pytest.raises(VphsError) as caught:
+        Circuit.from_file(tmp_path / "top.yaml", compile=False)
+    assert "top.yaml:5:3: subsystem 'left': its port cmd (signal) is not connected (it is valve.x inside " \
+           "part.yaml)" in str(caught.value)
+    with pytest.raises(VphsError) as caught:  # the part alone: the hint to validate the netlist using it
+        Circuit.from_file(tmp_path / "part.yaml", compile=False)
+    assert "port valve.P (hydraulic) is not connected (this file is a subsystem part: it exposes it as P under " \
+           "ports:" in str(caught.value)
