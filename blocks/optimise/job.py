@@ -58,6 +58,11 @@ Methods and their settings (defaults):
              must hold one generation; below two it only samples (the report says so).
 Besides the method's evaluations, ``vphs optimise`` evaluates the netlist's own design first (its values of
 the free parameters, if inside the bounds) and the report compares the best with it.
+A point the method asks for again -- the same coordinates, bit for bit: a design clipped onto a bound once
+more, or nelder_mead's ``start: netlist``, which is the netlist's own design -- is answered from its earlier
+record, not simulated again (blocks.optimise.repeats); it is still an evaluation of the method and counts
+against max_evaluations, so the path and the result are those of simulating it again, and the report says
+how many of the evaluations were such repeats.
 Outputs: ``vphs optimise`` writes into ``output``, ``vphs sweep`` into ``output``/sweep.
 A failed simulation costs ``penalty``: choose it above any cost a working design can have (the report
 warns when working designs cost more).
@@ -75,6 +80,9 @@ give a term on it a large weight, e.g. for pA <= 250 bar::
 (a soft limit: a design beyond it is not refused, but costs the more the further it goes).
 
 Values are numbers in SI or "<number> <unit>" strings, checked against the parameter's unit and bounds.
+The reports, sweep.csv and the console show each free parameter in the unit the job wrote its bounds (or
+its sweep values) in; for bare numbers, in the unit the netlist writes its value in, else in SI
+(blocks.optimise.display).
 A load case's value wins over the same parameter in ``set:``; a varied parameter may be in neither.
 The methods work in normalised coordinates z in [0, 1] per free parameter:
 value = min + z*(max - min), or with ``log: true`` value = min * (max/min)**z; their tolerances

@@ -182,13 +182,14 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     lines = [f"# Optimisation: {job.name}", "",
              f"- job: `{job.file}`; netlist: `{job.netlist}`",
              f"- method: {job.method} ({', '.join(f'{k}={_fmt(v)}' for k, v in settings.items())}); seed {job.seed}",
-             f"- evaluations: {len(records)} on the method's path, {len(records) - len(ok)} failed; "
+             f"- evaluations: {len(records)} on the method's path{repeats_note(summary.path_repeats)}, "
+             f"{len(records) - len(ok)} failed; "
              f"iterations: {summary.iterations}; stopped: {summary.reason}"
              + (f"; {len(summary.discarded)} more were evaluated ahead in parallel and discarded (not on the path, "
                 f"not in this report; marked discarded in the log)" if summary.discarded else ""),
-             f"- run: {summary.executor} executor, {summary.workers} worker(s); {summary.evaluated} evaluations in "
-             f"this run, {summary.replayed} from the log; {summary.seconds:.2f} s, "
-             f"{summary.rate:.1f} evaluations/s in this run",
+             f"- run: {summary.executor} executor, {summary.workers} worker(s); {summary.evaluated} evaluations "
+             f"simulated in this run, {summary.repeated} repeats answered from the record, {summary.replayed} "
+             f"from the log; {summary.seconds:.2f} s, {summary.rate:.1f} simulated evaluations/s in this run",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
              ""]
@@ -239,6 +240,15 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     if failed:
         lines += [f"## Failed evaluations ({len(failed)})", ""] + [f"- {e}" for e in _distinct_errors(records)] + [""]
     return "\n".join(lines)
+
+
+def repeats_note(repeats: int, budget: bool = True) -> str:
+    """How many evaluations were repeats (:mod:`blocks.optimise.repeats`), as a parenthesis ("" if none);
+    ``budget``: say that they count against max_evaluations (not for a sweep, which has no budget)."""
+    if not repeats:
+        return ""
+    return (f" (of which {repeats} repeats of a design already evaluated, answered from its record, not simulated "
+            f"again" + ("; they count against max_evaluations)" if budget else ")"))
 
 
 def _distinct_errors(records: list[dict], limit: int = 8) -> list[str]:
@@ -368,7 +378,8 @@ def write_sweep_report(summary) -> Path:
     _sweep_plot(job, records, folder / "sweep.png")
     ok = [r for r in records if r["status"] == "ok"]
     lines = [f"# Sweep: {job.name}", "", f"- job: `{job.file}`; netlist: `{job.netlist}`",
-             f"- {len(records)} points over {', '.join(names)} ({job.sweep_combine}); "
+             f"- {len(records)} points over {', '.join(names)} ({job.sweep_combine})"
+             f"{repeats_note(summary.path_repeats, budget=False)}; "
              f"{len(records) - len(ok)} failed; {summary.seconds:.2f} s, {summary.rate:.1f} evaluations/s "
              f"({summary.executor}, {summary.workers} worker(s))",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, combined by "
