@@ -13,25 +13,11 @@ from blocks.optimise.job import load_job
 from blocks.optimise.log import LOG_NAME, read_log
 from blocks.optimise.repeats import Repeats
 from blocks.optimise.runner import run_optimise
-
-ROOT = Path(__file__).resolve().parents[2]
-DRIVE_LINE = ROOT / "netlists" / "opt" / "drive_line.yaml"
-
+from tests.optimise.jobs import drive_line_job
 
 def write_job(tmp_path, out: str, algorithm: str, parameters: str = "Kp: {min: 1, max: 3}") -> Path:
-    path = tmp_path / f"{out}.yaml"
-    path.write_text(f"""\
-netlist: {DRIVE_LINE}
-output: {tmp_path / out}
-seed: 2
-parameters:
-  {parameters}
-cost:
-  terms:
-    pos: {{kind: ise, signal: x, reference: x_ref, unit: mm}}
-algorithm: {algorithm}
-""")
-    return path
+    name, bounds = parameters.split(": ", 1)
+    return drive_line_job(tmp_path, out, {name: bounds}, algorithm)
 
 
 class NoRepeats(Repeats):

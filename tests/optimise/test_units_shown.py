@@ -13,33 +13,21 @@ import pytest
 import cli
 from blocks.optimise.job import load_job
 from blocks.optimise.log import read_log
+from tests.optimise.jobs import drive_line_job
 
-ROOT = Path(__file__).resolve().parents[2]
-DRIVE_LINE = ROOT / "netlists" / "opt" / "drive_line.yaml"
 BAR, MM2 = 1e5, 1e-6
+SWEEP = """\
+sweep:
+  parameters:
+    supply.p: ["150 bar", "220 bar"]
+    valve.A_max: {min: "60 mm^2", max: "120 mm^2", points: 2}
+"""
 
 
 def write_job(tmp_path, p_bounds='{min: "150 bar", max: "250 bar"}',
               a_bounds='{min: "60 mm^2", max: "250 mm^2"}') -> Path:
-    path = tmp_path / "job.yaml"
-    path.write_text(f"""\
-netlist: {DRIVE_LINE}
-output: {tmp_path / 'out'}
-seed: 2
-parameters:
-  supply.p: {p_bounds}
-  valve.A_max: {a_bounds}
-  Kp: {{min: 2, max: 20}}
-cost:
-  terms:
-    pos: {{kind: ise, signal: x, reference: x_ref, unit: mm}}
-algorithm: {{method: complex, max_evaluations: 8}}
-sweep:
-  parameters:
-    supply.p: ["150 bar", "220 bar"]
-    valve.A_max: {{min: "60 mm^2", max: "120 mm^2", points: 2}}
-""")
-    return path
+    return drive_line_job(tmp_path, "out", {"supply.p": p_bounds, "valve.A_max": a_bounds, "Kp": "{min: 2, max: 20}"},
+                          "{method: complex, max_evaluations: 8}", SWEEP)
 
 
 def test_the_report_the_console_and_best_json_show_bar_and_mm2(tmp_path, capsys):
@@ -95,7 +83,8 @@ def test_a_bound_error_quotes_the_bounds_as_written(tmp_path, capsys):
     assert cli.main(["optimise", str(path), "--workers", "1", "-q"]) == 2
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and "Traceback" not in err
-    assert f"{path}:6:" in err and "parameters.valve.A_max: max (60 mm^2) must be above min (250 mm^2)" in err
+    line = 1 + path.read_text().splitlines().index('  valve.A_max: {min: "250 mm^2", max: "60 mm^2"}')
+    assert f"{path}:{line}:" in err and "parameters.valve.A_max: max (60 mm^2) must be above min (250 mm^2)" in err
 
 
 def test_a_netlist_design_outside_the_bounds_is_said_in_their_unit(tmp_path):
