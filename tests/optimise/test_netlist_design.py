@@ -36,8 +36,8 @@ algorithm: {{method: complex, max_evaluations: {budget}}}
 def test_a_best_worse_than_the_netlist_design_is_said(tmp_path, capsys):
     import cli
 
-    path = write_job(tmp_path)
-    job = load_job(path)
+    path = write_job(tmp_path, budget=6)  # the initial complex only (30 evaluations beat the netlist's design
+    job = load_job(path)                   # at 9be67f6 already: this test failed there)
     own = evaluate_design(job.spec(), job.start_values)["cost"]  # the netlist's values: A_max 125 mm^2, ...
     assert cli.main(["optimise", str(path), "--workers", "1", "-q"]) == 0
     header, records = read_log(job.output)
