@@ -508,7 +508,7 @@ class _Resolver:
         if entry.bounds is not None:
             problem = entry.bounds.check(value)
             if problem:
-                raise self.error(path, f"{where}: {problem} (the netlist's bounds)")
+                raise self.error(path, f"{where}: {as_written(raw)} is outside the netlist's bounds ({problem})")
         return value
 
     def free_param(self, name: str, p: FreeParameter) -> FreeParam:

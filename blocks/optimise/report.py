@@ -380,7 +380,7 @@ def write_sweep_report(summary) -> Path:
     lines = [f"# Sweep: {job.name}", "", f"- job: `{job.file}`; netlist: `{job.netlist}`",
              f"- {len(records)} points over {', '.join(names)} ({job.sweep_combine})"
              f"{repeats_note(summary.path_repeats, budget=False)}; "
-             f"{len(records) - len(ok)} failed; {summary.seconds:.2f} s, {summary.rate:.1f} evaluations/s "
+             f"{len(records) - len(ok)} failed; {summary.seconds:.2f} s, {summary.rate:.1f} simulated evaluations/s "
              f"({summary.executor}, {summary.workers} worker(s))",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, combined by "
              f"{job.combine} over {', '.join(cases)}", ""]

@@ -90,3 +90,10 @@ def test_a_bound_error_quotes_the_bounds_as_written(tmp_path, capsys):
 def test_a_netlist_design_outside_the_bounds_is_said_in_their_unit(tmp_path):
     job = load_job(write_job(tmp_path, p_bounds='{min: "210 bar", max: "250 bar"}'))
     assert job.netlist_design_outside() == "supply.p = 207 bar is outside [210 bar, 250 bar]"
+
+
+def test_a_bound_outside_the_netlists_bounds_is_quoted_as_written(tmp_path, capsys):
+    path = write_job(tmp_path, a_bounds='{min: "60 mm^2", max: "2e7 mm^2"}')  # 20 m^2: above A_max's 1 m^2
+    assert cli.main(["optimise", str(path), "--workers", "1", "-q"]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "parameters.valve.A_max.max: 2e7 mm^2 is outside the netlist's bounds (" in err
