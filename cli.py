@@ -410,6 +410,7 @@ def cmd_optimise(args, sweep: bool = False) -> int:
     finally:
         if main_thread:
             signal.signal(signal.SIGTERM, previous)
+    from blocks.optimise.display import shown
     from blocks.optimise.report import netlist_comparison, warnings
 
     for warning in warnings(summary):
@@ -419,9 +420,10 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         print(f"vphs: every evaluation failed; see {summary.report}", file=sys.stderr)
         return EXIT_FAILED
     if not args.quiet:
-        best = ", ".join(f"{k} = {v:.6g}" for k, v in summary.best["parameters"].items())
+        best = ", ".join(f"{k} = {shown(v, summary.job.units.get(k, ''))}" for k, v in summary.best["parameters"].items())
         ahead = f", {len(summary.discarded)} more evaluated ahead and discarded" if summary.discarded else ""
-        print(f"vphs: {summary.reason}: {len(summary.records)} evaluations ({summary.failed} failed{ahead}) in "
+        repeats = f", {summary.path_repeats} repeats not simulated again" if summary.path_repeats else ""
+        print(f"vphs: {summary.reason}: {len(summary.records)} evaluations ({summary.failed} failed{repeats}{ahead}) in "
               f"{summary.seconds:.1f} s; best cost {summary.best['cost']:.6g} at {best}; report {summary.report}",
               file=sys.stderr)
     if comparison and not warn and not args.quiet:

@@ -58,6 +58,11 @@ Methods and their settings (defaults):
              must hold one generation; below two it only samples (the report says so).
 Besides the method's evaluations, ``vphs optimise`` evaluates the netlist's own design first (its values of
 the free parameters, if inside the bounds) and the report compares the best with it.
+A point the method asks for again -- the same coordinates, bit for bit: a design clipped onto a bound once
+more, or nelder_mead's ``start: netlist``, which is the netlist's own design -- is answered from its earlier
+record, not simulated again (blocks.optimise.repeats); it is still an evaluation of the method and counts
+against max_evaluations, so the path and the result are those of simulating it again, and the report says
+how many of the evaluations were such repeats.
 Outputs: ``vphs optimise`` writes into ``output``, ``vphs sweep`` into ``output``/sweep.
 A failed simulation costs ``penalty``: choose it above any cost a working design can have (the report
 warns when working designs cost more).
@@ -75,6 +80,9 @@ give a term on it a large weight, e.g. for pA <= 250 bar::
 (a soft limit: a design beyond it is not refused, but costs the more the further it goes).
 
 Values are numbers in SI or "<number> <unit>" strings, checked against the parameter's unit and bounds.
+The reports, sweep.csv and the console show each free parameter in the unit the job wrote its bounds (or
+its sweep values) in; for bare numbers, in the unit the netlist writes its value in, else in SI
+(blocks.optimise.display).
 A load case's value wins over the same parameter in ``set:``; a varied parameter may be in neither.
 The methods work in normalised coordinates z in [0, 1] per free parameter:
 value = min + z*(max - min), or with ``log: true`` value = min * (max/min)**z; their tolerances
@@ -98,6 +106,7 @@ from blocks.netlist.spec import Count, Number, Value
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
+from blocks.optimise.display import as_written, shown, written_unit
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
 from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, si_name, si_value
 
@@ -205,7 +214,7 @@ class FreeParam:
     lower: float
     upper: float
     log: bool
-    unit: str  # for reports ("" if the parameter is a bare number)
+    unit: str  # shown in (blocks.optimise.display): the unit the job wrote the bounds in, ... ("": a plain number)
 
 
 @dataclass
@@ -232,7 +241,8 @@ class Job:
     fingerprint: str = ""
     sources: dict[str, str] = field(default_factory=dict)  # every file the circuit is built from -> a digest
     start_values: dict[str, float] = field(default_factory=dict)  # the netlist's values of the free parameters
-    units: dict[str, str] = field(default_factory=dict)  # parameter name -> unit for reports
+    units: dict[str, str] = field(default_factory=dict)  # parameter -> the unit it is shown in (display.py)
+    si_units: dict[str, str] = field(default_factory=dict)  # parameter -> the SI unit its values are in
     sweep_combine: str = "grid"
     start: str = "random"  # nelder_mead: start at a seeded random point or at the netlist's values
 
@@ -267,8 +277,8 @@ class Job:
     def netlist_design_outside(self) -> str:
         """Why the netlist's own design (its values of the free parameters) is not a design of the job: the
         values outside the bounds, as a phrase; "" if it lies within them."""
-        outside = [f"{p.name} = {self.start_values[p.name]:g} is outside [{p.lower:g}, {p.upper:g}]"
-                   + (f" {p.unit}" if p.unit else "") for p in self.free if not p.lower <= self.start_values[p.name] <= p.upper]
+        outside = [f"{p.name} = {shown(self.start_values[p.name], p.unit)} is outside [{shown(p.lower, p.unit)}, "
+                   f"{shown(p.upper, p.unit)}]" for p in self.free if not p.lower <= self.start_values[p.name] <= p.upper]
         return "; ".join(outside)
 
     def spec(self):
@@ -421,7 +431,8 @@ class _Resolver:
             cases=cases, combine=m.cost.combine, penalty=m.cost.penalty, method=method, settings=settings,
             sweep_names=sweep_names, sweep_points=sweep_points,
             start_values={p.name: float(start[p.name]) for p in free},
-            units={k: self.unit_of(k) for k in list(m.parameters) + sweep_names}, start=self.start,
+            units={k: self.display_unit(k) for k in list(m.parameters) + sweep_names},
+            si_units={k: self.si_unit(k) for k in list(m.parameters) + sweep_names}, start=self.start,
             sweep_combine=m.sweep.combine if m.sweep else "grid",
         )
         job.fingerprint = self.fingerprint(netlist)
@@ -464,11 +475,25 @@ class _Resolver:
             raise self.error(path, f"'{name}' is an array parameter; only single values can be set or varied")
         return entry
 
-    def unit_of(self, name: str) -> str:
+    def si_unit(self, name: str) -> str:
+        """The SI unit of ``name``'s values: its declared unit if named, else the SI unit of the dimension
+        the netlist gives it ("" for a plain number or one the netlist does not say)."""
         entry = self.entries[name]
         if entry.unit not in (None, GENERIC):
             return entry.unit
-        return "" if entry.dims is None else entry.dims.describe_dims()
+        dims = self.table.dimension(name)
+        return "" if dims is None or dims.same_dimension(parse_unit("1")) else si_name(dims)
+
+    def display_unit(self, name: str) -> str:
+        """The unit ``name`` is shown in (the rule of :mod:`blocks.optimise.display`): as the job wrote its
+        bounds or sweep values, else as the netlist wrote its value, else its SI unit."""
+        free = self.model.parameters.get(name)
+        swept = self.model.sweep.parameters.get(name) if self.model.sweep else None
+        raws = [free.min, free.max] if free is not None else []
+        raws += [swept.min, swept.max] if isinstance(swept, SweepRange) else (swept or [])
+        entry = self.entries[name]
+        netlist = entry.raw if entry.expression is None and isinstance(entry.constant, float) else None
+        return written_unit(*raws) or written_unit(netlist) or self.si_unit(name)
 
     def value(self, name: str, raw, path: tuple) -> float:
         """A job value for parameter ``name`` in SI, its unit and bounds checked."""
@@ -483,22 +508,24 @@ class _Resolver:
         if entry.bounds is not None:
             problem = entry.bounds.check(value)
             if problem:
-                raise self.error(path, f"{where}: {problem} (the netlist's bounds)")
+                raise self.error(path, f"{where}: {as_written(raw)} is outside the netlist's bounds ({problem})")
         return value
 
     def free_param(self, name: str, p: FreeParameter) -> FreeParam:
         path = ("parameters", name)
         if name in self.model.set:
             raise self.error(path, f"parameters.{name}: also fixed in set:; a parameter is either free or fixed")
-        lower, upper = self.value(name, p.min, path + ("min",)), self.value(name, p.max, path + ("max",))
-        return FreeParam(name, *self.bounds(lower, upper, p.log, path), p.log, self.unit_of(name))
+        return FreeParam(name, *self.bounds(name, p, path), p.log, self.display_unit(name))
 
-    def bounds(self, lower: float, upper: float, log: bool, path: tuple) -> tuple[float, float]:
+    def bounds(self, name: str, given: FreeParameter | SweepRange, path: tuple) -> tuple[float, float]:
+        """The SI bounds ``given.min`` < ``given.max``; a message quotes them as the job wrote them."""
+        lower, upper = self.value(name, given.min, path + ("min",)), self.value(name, given.max, path + ("max",))
         where = ".".join(shown_key(p) for p in path)
         if not upper > lower:
-            raise self.error(path + ("max",), f"{where}: max ({upper:g}) must be above min ({lower:g})")
-        if log and not lower > 0:
-            raise self.error(path + ("min",), f"{where}: log scaling needs min > 0, got {lower:g}")
+            raise self.error(path + ("max",), f"{where}: max ({as_written(given.max)}) must be above min "
+                             f"({as_written(given.min)})")
+        if given.log and not lower > 0:
+            raise self.error(path + ("min",), f"{where}: log scaling needs min > 0, got {as_written(given.min)}")
         return lower, upper
 
     # ---- cost terms -----------------------------------------------------------------------------------
@@ -639,8 +666,7 @@ class _Resolver:
                     raise self.error(path, f"sweep.parameters.{name}: an empty list")
                 columns[name] = [self.value(name, raw, path + (i,)) for i, raw in enumerate(values)]
             else:
-                lower, upper = self.value(name, values.min, path + ("min",)), self.value(name, values.max, path + ("max",))
-                lower, upper = self.bounds(lower, upper, values.log, path)
+                lower, upper = self.bounds(name, values, path)
                 grid = np.geomspace(lower, upper, values.points) if values.log else np.linspace(lower, upper, values.points)
                 columns[name] = [float(v) for v in grid]
         names = list(columns)

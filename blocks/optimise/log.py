@@ -21,6 +21,10 @@ re-run from its seed and each point it asks for is answered from the log when th
 holds exactly that x, and evaluated otherwise -- so finished evaluations are never repeated and the log
 ends up with every evaluation once.
 
+A point evaluated before in the job is not simulated again (:mod:`blocks.optimise.repeats`): its record
+copies the earlier one's parameters and outcome, with ``"seconds": 0``, ``"pids": []`` and
+``"repeat_of": <the index of the evaluation simulated>``.
+
     {"type": "discarded", "indices": [18, 19]}
 
 says that those evaluations were made ahead of need in parallel (the Complex method's later retractions,

@@ -3,8 +3,9 @@
 Optimisation (``<output>/``): ``report.md``; ``convergence.png`` (every evaluation's cost and the best so
 far against its number on the method's path); ``best_signals.png`` (the best design re-simulated: each cost term's
 signal against its reference, or the high-passed signal, per load case); ``best.json`` (the best
-parameters in SI and the cost terms, the job's fixed ``set:`` values and each load case's overrides, and
-per load case the ``vphs run`` command line that simulates the best design again); ``best_<case>.csv``
+parameters in SI (``parameters``, their SI units in ``units``) and as shown (``shown``: name -> value and
+unit), the cost terms, the job's fixed ``set:`` values and each load case's overrides (SI), and per load
+case the ``vphs run`` command line that simulates the best design again); ``best_<case>.csv``
 (the best run's logged signals). The free parameters alone do not reproduce a cost: the simulation also
 had the fixed values and the load case's, so the report gives the whole command line.
 The report covers the method's path only (:mod:`blocks.optimise.runner`): candidates evaluated ahead and
@@ -13,6 +14,10 @@ Beside the best, the report gives the cost of the netlist's own design (evaluate
 warns when the best found is not better than it (:func:`netlist_comparison`, also on the console).
 Sweep (``<output>/sweep/``): ``report.md`` with the table of every point, ``sweep.csv`` and ``sweep.png``
 (the cost and each term against the parameter; a map of the cost over a two-parameter grid).
+
+Parameters are shown in the units the job wrote them in (:mod:`blocks.optimise.display`): the tables of
+report.md, sweep.csv (columns ``name [unit]``, values in that unit) and the plots' axes; the ``vphs run``
+lines stay SI.
 
 Every file is written atomically (a temporary file renamed into place), so a report is either the old
 one or the new one, never half of each.
@@ -31,6 +36,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.optimise.costs import combine
+from blocks.optimise.display import in_unit, shown
 from blocks.result import atomic_write_figure, atomic_write_text
 
 
@@ -54,8 +60,19 @@ def _fmt(v, digits: int = 6) -> str:
 
 
 def _param(job, name: str, value: float) -> str:
+    """An SI value of parameter ``name`` as text in the unit it is shown in (:mod:`blocks.optimise.display`)."""
+    return shown(value, job.units.get(name, "")) if math.isfinite(value) else f"{value}"
+
+
+def _value(job, name: str, value: float) -> float:
+    """An SI value of parameter ``name`` in the unit it is shown in (a number, for tables and plots)."""
+    return in_unit(value, job.units.get(name, ""))
+
+
+def _column(job, name: str) -> str:
+    """A column's or an axis's title: ``name [unit]``, the name alone for a plain number."""
     unit = job.units.get(name, "")
-    return f"{_fmt(value)} {unit}".strip()
+    return f"{name} [{unit}]" if unit else name
 
 
 # ---- optimisation -----------------------------------------------------------------------------------------
@@ -81,8 +98,10 @@ def write_optimise_report(summary) -> Path:
                 result.write_csv(folder / f"best_{case}.csv")
         atomic_write_text(folder / "best.json", json.dumps(
             {"job": job.file, "evaluation": number, "log_index": best["index"], "cost": best["cost"],
-             "parameters": best["parameters"],
-             "units": {k: job.units.get(k, "") for k in best["parameters"]}, "cases": best["cases"],
+             "parameters": best["parameters"], "units": {k: job.si_units.get(k, "") for k in best["parameters"]},
+             "shown": {k: {"value": _value(job, k, v), "unit": job.units.get(k, "")}
+                       for k, v in best["parameters"].items()},
+             "cases": best["cases"],
              "set": job.fixed, "load_cases": dict(job.cases),
              "commands": run_commands(job, best["parameters"])}, indent=2) + "\n")
     text = _optimise_markdown(summary, records, signals_png is not None)
@@ -163,13 +182,14 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     lines = [f"# Optimisation: {job.name}", "",
              f"- job: `{job.file}`; netlist: `{job.netlist}`",
              f"- method: {job.method} ({', '.join(f'{k}={_fmt(v)}' for k, v in settings.items())}); seed {job.seed}",
-             f"- evaluations: {len(records)} on the method's path, {len(records) - len(ok)} failed; "
+             f"- evaluations: {len(records)} on the method's path{repeats_note(summary.path_repeats)}, "
+             f"{len(records) - len(ok)} failed; "
              f"iterations: {summary.iterations}; stopped: {summary.reason}"
              + (f"; {len(summary.discarded)} more were evaluated ahead in parallel and discarded (not on the path, "
                 f"not in this report; marked discarded in the log)" if summary.discarded else ""),
-             f"- run: {summary.executor} executor, {summary.workers} worker(s); {summary.evaluated} evaluations in "
-             f"this run, {summary.replayed} from the log; {summary.seconds:.2f} s, "
-             f"{summary.rate:.1f} evaluations/s in this run",
+             f"- run: {summary.executor} executor, {summary.workers} worker(s); {summary.evaluated} evaluations "
+             f"simulated in this run, {summary.repeated} repeats answered from the record, {summary.replayed} "
+             f"from the log; {summary.seconds:.2f} s, {summary.rate:.1f} simulated evaluations/s in this run",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
              ""]
@@ -205,14 +225,14 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     lines += ["```", ""]
     lines += ["## Cost history", "", "![convergence](convergence.png)", "",
               "Each improvement of the best cost:", "",
-              "| evaluation | step | cost | " + " | ".join(p.name for p in job.free) + " |",
+              "| evaluation | step | cost | " + " | ".join(_column(job, p.name) for p in job.free) + " |",
               "|---|---|---|" + "---|" * len(job.free)]
     running = math.inf
     for number, r in enumerate(records):
         if r["status"] == "ok" and r["cost"] < running:
             running = r["cost"]
             lines.append(f"| {number} | {r.get('step', '')} | {_fmt(r['cost'])} | "
-                         + " | ".join(_fmt(r["parameters"][p.name]) for p in job.free) + " |")
+                         + " | ".join(_fmt(_value(job, p.name, r["parameters"][p.name])) for p in job.free) + " |")
     lines.append("")
     if have_signals:
         lines += ["## Best run", "", "![signals](best_signals.png)", ""]
@@ -220,6 +240,15 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
     if failed:
         lines += [f"## Failed evaluations ({len(failed)})", ""] + [f"- {e}" for e in _distinct_errors(records)] + [""]
     return "\n".join(lines)
+
+
+def repeats_note(repeats: int, budget: bool = True) -> str:
+    """How many evaluations were repeats (:mod:`blocks.optimise.repeats`), as a parenthesis ("" if none);
+    ``budget``: say that they count against max_evaluations (not for a sweep, which has no budget)."""
+    if not repeats:
+        return ""
+    return (f" (of which {repeats} repeats of a design already evaluated, answered from its record, not simulated "
+            f"again" + ("; they count against max_evaluations)" if budget else ")"))
 
 
 def _distinct_errors(records: list[dict], limit: int = 8) -> list[str]:
@@ -328,13 +357,13 @@ def write_sweep_report(summary) -> Path:
     records = sorted(summary.records, key=lambda r: r["index"])
     names = job.sweep_names
     cases = [c for c, _ in job.cases]
-    header = [f"{n} [{job.units.get(n, '')}]".replace(" []", "") for n in names]
+    header = [_column(job, n) for n in names]
     header += [f"{c}.{t.name} [{t.value_unit}]" if len(cases) > 1 else f"{t.name} [{t.value_unit}]"
                for c in cases for t in job.terms]
     header += ["cost", "status", "error"]
     rows = []
     for r in records:
-        row = [r["parameters"][n] for n in names]
+        row = [_value(job, n, r["parameters"][n]) for n in names]
         for c in cases:
             terms = r["cases"].get(c, {}).get("terms", {})
             row += [terms.get(t.name) for t in job.terms]
@@ -349,8 +378,9 @@ def write_sweep_report(summary) -> Path:
     _sweep_plot(job, records, folder / "sweep.png")
     ok = [r for r in records if r["status"] == "ok"]
     lines = [f"# Sweep: {job.name}", "", f"- job: `{job.file}`; netlist: `{job.netlist}`",
-             f"- {len(records)} points over {', '.join(names)} ({job.sweep_combine}); "
-             f"{len(records) - len(ok)} failed; {summary.seconds:.2f} s, {summary.rate:.1f} evaluations/s "
+             f"- {len(records)} points over {', '.join(names)} ({job.sweep_combine})"
+             f"{repeats_note(summary.path_repeats, budget=False)}; "
+             f"{len(records) - len(ok)} failed; {summary.seconds:.2f} s, {summary.rate:.1f} simulated evaluations/s "
              f"({summary.executor}, {summary.workers} worker(s))",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, combined by "
              f"{job.combine} over {', '.join(cases)}", ""]
@@ -393,10 +423,10 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
             log = finite.size and finite.min() > 0 and finite.max() > 100 * finite.min()
             mesh = ax.imshow(Z, origin="lower", aspect="auto", norm=LogNorm() if log else None)
             fig.colorbar(mesh, ax=ax, label="cost" if term is None else f"{term.name} [{term.value_unit}]")
-            ax.set_xticks(range(len(xs)), [_fmt(v, 3) for v in xs], fontsize="small")
-            ax.set_yticks(range(len(ys)), [_fmt(v, 3) for v in ys], fontsize="small")
-            ax.set_xlabel(_axis_label(job, names[0]))
-            ax.set_ylabel(_axis_label(job, names[1]))
+            ax.set_xticks(range(len(xs)), [_fmt(_value(job, names[0], v), 3) for v in xs], fontsize="small")
+            ax.set_yticks(range(len(ys)), [_fmt(_value(job, names[1], v), 3) for v in ys], fontsize="small")
+            ax.set_xlabel(_column(job, names[0]))
+            ax.set_ylabel(_column(job, names[1]))
             ax.set_title(label + (f" ({_COMBINED[job.combine]} over the load cases)" if term is not None
                                   and len(cases) > 1 else ""), fontsize="small")
     else:
@@ -404,7 +434,7 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
         x_name = names[0]
         for ax, (label, term) in zip(axes[:, 0], columns):
             if len(names) == 1:
-                x = [r["parameters"][x_name] for r in ok]
+                x = [_value(job, x_name, r["parameters"][x_name]) for r in ok]
             else:
                 x = [r["index"] for r in ok]
             if term is None:
@@ -417,17 +447,12 @@ def _sweep_plot(job, records: list[dict], path: Path) -> None:
                     ax.legend(fontsize="x-small")
             ax.set_ylabel(label if term is None else f"{label} [{term.value_unit}]")
             ax.grid(True, alpha=0.3)
-        axes[-1, 0].set_xlabel(_axis_label(job, x_name) if len(names) == 1 else
+        axes[-1, 0].set_xlabel(_column(job, x_name) if len(names) == 1 else
                                f"point ({', '.join(names)} in the table)")
     fig.suptitle(f"sweep: {job.name}")
     fig.tight_layout()
     atomic_write_figure(fig, path)
     plt.close(fig)
-
-
-def _axis_label(job, name: str) -> str:
-    unit = job.units.get(name, "")
-    return f"{name} [{unit}]" if unit else name
 
 
 _COMBINED = {"sum": "summed", "mean": "mean", "worst": "worst"}

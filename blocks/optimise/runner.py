@@ -16,6 +16,11 @@ parameters, with the job's fixed values and load cases) once, as evaluation 0 of
 counted in its budget nor in its result). A netlist value outside the job's bounds is not a design of the
 job: it is then not evaluated, and the report says why.
 
+A point whose coordinates equal, bit for bit, those of an evaluation made earlier in the job (this run's,
+or one read back from the log) is a repeat: it is logged with its own index and step but answered from the
+earlier record, not simulated (:mod:`blocks.optimise.repeats`); it counts as an evaluation of the method
+like any other. ``Summary.evaluated`` counts the simulations, ``repeated`` the repeats answered in this run.
+
 The result (the best design, the evaluations counted, the failures) is taken over the method's path only:
 the Complex method evaluates retractions ahead in parallel and discards those it turns out not to need
 (:mod:`blocks.optimise.complex`); they stay in the log, marked discarded, but are left out of the summary,
@@ -40,6 +45,7 @@ from blocks.optimise.complex import ComplexSettings, complex_minimise
 from blocks.optimise.executors import EvaluationLost, Terminated, make_executor
 from blocks.optimise.job import Job
 from blocks.optimise.log import EvaluationLog, point_id
+from blocks.optimise.repeats import Repeats, key, repeat_record
 from blocks.optimise.scipy_methods import differential_evolution, nelder_mead
 
 
@@ -59,8 +65,9 @@ class Summary:
     workers: int
     executor: str
     candidates: int | None = None
-    evaluated: int = 0  # in this run (on the path or not)
+    evaluated: int = 0  # simulated in this run (on the path or not)
     replayed: int = 0  # answered from the log (on the path or not)
+    repeated: int = 0  # in this run, repeats of a point evaluated before, answered from its record (repeats.py)
     failed: int = 0  # on the path
     best: dict | None = None  # on the path
     netlist_design: dict | None = None  # the record of the netlist's own design (evaluated first, off the path)
@@ -76,7 +83,12 @@ class Summary:
     @property
     def total(self) -> int:
         """Every evaluation, on the path or discarded."""
-        return self.evaluated + self.replayed
+        return self.evaluated + self.replayed + self.repeated
+
+    @property
+    def path_repeats(self) -> int:
+        """The evaluations on the method's path that were repeats, answered from an earlier record."""
+        return sum("repeat_of" in record for record in self.records)
 
     @property
     def rate(self) -> float:
@@ -103,7 +115,8 @@ class Progress:
         kept = s.total - len(s.discarded) - (s.netlist_design is not None)  # on the path, or not yet decided
         done = f"{kept}/{self.total}" if self.total else f"{kept}"
         best = f"{s.best['cost']:.6g}" if s.best else "-"
-        notes = [f"{n} {what}" for n, what in ((len(s.discarded), "more discarded"), (s.replayed, "from the log")) if n]
+        notes = [f"{n} {what}" for n, what in ((len(s.discarded), "more discarded"), (s.replayed, "from the log"),
+                                               (s.repeated, "repeats not simulated")) if n]
         extra = f" ({', '.join(notes)})" if notes else ""
         line = (f"vphs: {done} evaluations{extra}, {s.failed} failed, best cost {best}, {rate:.1f}/s, "
                 f"{elapsed:.1f} s")
@@ -124,20 +137,28 @@ class Runner:
         self.job, self.log, self.executor, self.summary, self.progress = job, log, executor, summary, progress
         self.to_design = to_design
         self.next_index = 0
+        self.repeats = Repeats()  # every point evaluated so far, to answer a repeat from its record
         self.batch: list[dict] = []  # the last batch's records, until the method says which are on its path
 
     def __call__(self, points: list, info: list[dict], designs: list[dict] | None = None) -> list[float]:
         """The costs of ``points`` (``designs``: their SI values, if not ``to_design`` of the points)."""
         self.on_path()  # a method that said nothing about its last batch used all of it
         first, self.next_index = self.next_index, self.next_index + len(points)
-        batch: list[dict | None] = [None] * len(points)
-        todo = []
+        batch: list[dict | None] = [self.log.finished(first + pos, z) for pos, z in enumerate(points)]
+        for record in filter(None, batch):
+            self.repeats.remember(record)
+            self.summary.replayed += 1
+        todo, copies, firsts = [], [], {}  # copies: (pos, pos of the same point simulated in this batch)
         for pos, z in enumerate(points):
-            record = self.log.finished(first + pos, z)
-            if record is not None:
-                batch[pos] = record
-                self.summary.replayed += 1
+            if batch[pos] is not None:
+                continue
+            original = self.repeats.original(z)
+            if original is not None:
+                self._answer(pos, first, points, info, batch, original)
+            elif key(z) in firsts:
+                copies.append((pos, firsts[key(z)]))
             else:
+                firsts[key(z)] = pos
                 todo.append(pos)
         if todo:
             designs = [designs[pos] if designs else self.to_design(points[pos]) for pos in todo]
@@ -147,11 +168,22 @@ class Runner:
                 record = {"type": "evaluation", "id": point_id(first + pos, x), "index": first + pos, "x": x,
                           "parameters": designs[k], **info[pos], **outcome}
                 self.log.append(record)
+                self.repeats.remember(record)
                 batch[pos] = record
                 self.summary.evaluated += 1
                 self.progress.show(self.summary)
+        for pos, simulated in copies:
+            self._answer(pos, first, points, info, batch, batch[simulated])
         self.batch = batch
         return [record["cost"] for record in batch]
+
+    def _answer(self, pos: int, first: int, points: list, info: list[dict], batch: list, original: dict) -> None:
+        """Point ``pos`` of the batch, a repeat of ``original``: answered from its record (logged, not simulated)."""
+        x = [float(v) for v in points[pos]]
+        record = repeat_record(original, first + pos, point_id(first + pos, x), x, info[pos])
+        self.log.append(record)
+        batch[pos] = record
+        self.summary.repeated += 1
 
     def aside(self, z, design: dict, step: str) -> dict:
         """One evaluation off the method's path (the netlist's own design): logged and answered from the log
