@@ -39,6 +39,7 @@ import sys
 from pathlib import Path
 
 import numpy as np
+import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 JOBS = ROOT / "netlists" / "jobs"
@@ -70,21 +71,29 @@ def read_best(out: Path, name: str) -> dict:
 
 
 def read_sweep(out: Path, name: str) -> list[dict]:
-    """A sweep job's points: the column names without their units, numbers as floats."""
+    """A sweep job's points: the column names without their units, numbers as floats; the swept parameters
+    in SI (sweep.csv gives them in the unit the job wrote), the cost terms in their columns' units as the
+    jobs define them (mm, mm/s, Pa)."""
+    from blocks.units import parse_unit
+
     path = out / name / "sweep" / "sweep.csv"
     if not path.is_file():
         raise FileNotFoundError(f"{path}: run 'vphs sweep netlists/jobs/bridge_travel_{name}.yaml' first")
+    swept = set(yaml.safe_load((JOBS / f"bridge_travel_{name}.yaml").read_text())["sweep"]["parameters"])
     with open(path, newline="") as handle:
         rows = list(csv.DictReader(handle))
     out_rows = []
     for row in rows:
         clean = {}
         for key, value in row.items():
-            name_ = key.split(" [")[0]
+            name_, _, unit = key.partition(" [")
             try:
                 clean[name_] = float(value)
             except (TypeError, ValueError):
                 clean[name_] = value
+                continue
+            if name_ in swept and unit:
+                clean[name_] *= parse_unit(unit.rstrip("]")).factor
         out_rows.append(clean)
     return out_rows
 
