@@ -22,9 +22,9 @@ import numpy as np
 
 from blocks.block import PortKind
 from blocks.compiler.codegen import Generator, OutputExpr
-from blocks.compiler.structure import Structure, analyse, bulk_modulus_name, cavitation, jacobian_pattern
+from blocks.compiler.structure import Structure, analyse, cavitation, jacobian_pattern
 from blocks.errors import NetlistError, SimulationError
-from blocks.library.hydraulic.cavitation import cavity_fraction
+from blocks.library.hydraulic.cavitation import cavity_volume
 from blocks.netlist.flatten import FlatCircuit, flatten
 from blocks.netlist.yaml_source import shown_key
 from blocks.result import Result, column_name_problem
@@ -235,11 +235,10 @@ class Circuit:
                 below = np.nonzero(column < p_vap)[0]
                 when = f" first seen at t = {outcome.t[below[0]]:.4g} s" if below.size else " between output samples"
                 if modelled and net in self.structure.net_state:
-                    beta = vec.values[bulk_modulus_name(self.structure, net)]
                     found.append(f"cavitation: {self._pressure_name(net)} reached the vapour pressure "
-                                 f"{p_vap / 1e5:.3g} bar{when}; a vapour cavity of up to "
-                                 f"{100 * cavity_fraction(low, beta, p_vap):.3g} % of its oil volume formed there "
-                                 f"(modelled: fluid cavitation)")
+                                 f"{p_vap / 1e5:.3g} bar,{when}; a vapour cavity of up to "
+                                 f"{_volume_text(cavity_volume(low, p_vap))} formed there (modelled: fluid "
+                                 f"cavitation)")
                 else:
                     found.append(f"cavitation: {self._pressure_name(net)} fell to {low / 1e5:.3g} bar, below the "
                                  f"vapour pressure {p_vap / 1e5:.3g} bar,{when}" + (
@@ -376,6 +375,13 @@ class Circuit:
         if declared and all(parse_unit(u).same_dimension(parse_unit(declared[0][1])) for _, u in declared):
             return declared[0][1]
         return None
+
+
+def _volume_text(volume: float) -> str:
+    """A cavity's size for a message: '98.6 cm^3', '2.35 l', 'under 0.001 cm^3'."""
+    if volume < 1e-9:
+        return "under 0.001 cm^3"
+    return f"{volume * 1e6:.3g} cm^3" if volume < 1e-3 else f"{volume * 1e3:.3g} l"
 
 
 @dataclass

@@ -55,8 +55,9 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
                                   "reported as cavitating (a warning after the run). Top-level netlist only.",
     ("Fluid", "cavitation"): "`true` (the default): a net drawn down to the vapour pressure holds a vapour "
                              "cavity, which the oil flowing back fills before the pressure rises again; "
-                             "below the vapour pressure the net's bulk modulus gives way to the cavity's, 1 "
-                             "bar per net volume of vapour (`blocks/library/hydraulic/cavitation.py`). "
+                             "below the vapour pressure the net's stiffness gives way to the cavity's "
+                             "(the pressure 0.1 bar lower per litre of vapour; "
+                             "`blocks/library/hydraulic/cavitation.py`). "
                              "`false`: the liquid's bulk modulus at every pressure (the thesis's Simulink "
                              "model), so a net drawn empty goes into a tension oil cannot carry. Top-level "
                              "netlist only; blocks' own internal nodes are not affected.",

@@ -4,8 +4,8 @@ The generated module holds two functions over the flat vectors (x: states, th: p
 
 - ``rhs(t, x, th, dx)``: across variables from the states, then every block's ``outputs`` in the
   evaluation order (signals, prescribed pressures and speeds), then every block's ``derivatives``,
-  summed per node: dp/dt = beta/(V_net + sum V_port) * sum q for a hydraulic node (beta the bulk modulus,
-  or below the vapour pressure the cavity's, blocks.library.hydraulic.cavitation), and
+  summed per node: dp/dt = beta/(V_net + sum V_port) * sum q for a hydraulic node (below the vapour
+  pressure, a vapour cavity's: blocks.library.hydraulic.cavitation), and
   dw/dt = sum(r_k*tau_k) / sum(r_k^2*J_k) for a rigid body.
 - ``observe(t, x, th, y)``: the same first two steps, then the logged signals.
 
@@ -126,8 +126,8 @@ class Generator:
         lines = [f"# block library version {library_digest()} (any edit of a block or helper module changes "
                  f"this file's name, and so numba's cache)"]
         if cavitation(self.st):
-            lines.append("from blocks.library.hydraulic.cavitation import cavitating_bulk_modulus as "
-                         "_cavitating_bulk_modulus")
+            lines.append("from blocks.library.hydraulic.cavitation import cavitating_pressure_rate as "
+                         "_cavitating_pressure_rate")
         for cls, k in self.classes.items():
             module = inspect.getmodule(cls)
             lines.append(f"from {module.__name__} import {cls.__name__} as _K{k}")
@@ -204,8 +204,10 @@ class Generator:
             j = self.net_index[net]
             beta = self.theta(bulk_modulus_name(st, net))
             if cavitation(st):
-                beta = f"_cavitating_bulk_modulus(x[{slot.index}], {beta}, {self.theta('fluid.vapour_pressure')})"
-            lines.append(f"dx[{slot.index}] = {beta} / V_n{j} * q_n{j}")
+                lines.append(f"dx[{slot.index}] = _cavitating_pressure_rate(x[{slot.index}], {beta}, V_n{j}, q_n{j}, "
+                             f"{self.theta('fluid.vapour_pressure')})")
+            else:
+                lines.append(f"dx[{slot.index}] = {beta} / V_n{j} * q_n{j}")
         for k, body in enumerate(st.bodies):
             if body.state is not None:
                 lines.append(f"dx[{body.state.index}] = F_b{k} / M_b{k}")

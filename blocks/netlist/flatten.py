@@ -318,18 +318,17 @@ class _Builder:
             raise located.error(path + ("type",), f"{name}: {exc.args[0]}") from None
         flat = FlatComponent(qualified, cls, located, path)
         declared = {p.name: p for p in cls.params}
+        def not_declared(key: str) -> str:
+            hint = nearest(key, declared)
+            return (f"'{key}' is not a parameter of {comp.type}" + (f" (did you mean {', '.join(hint)}?)" if hint else
+                                                                    f" (its parameters: {', '.join(declared) or 'none'})"))
+
         for key in comp.params:
             if key not in declared:
-                hint = nearest(key, declared)
-                raise located.error(path + ("params", key), f"{name}: '{key}' is not a parameter of {comp.type}"
-                                    + (f" (did you mean {', '.join(hint)}?)" if hint else
-                                       f" (its parameters: {', '.join(declared) or 'none'})"))
+                raise located.error(path + ("params", key), f"{name}: {not_declared(key)}")
         for key, (_, over_source, over_path, _) in overrides.items():
             if key not in declared:
-                hint = nearest(key, declared)
-                raise over_source.error(over_path, f"'{name}.{key}': '{key}' is not a parameter of {comp.type}"
-                                        + (f" (did you mean {', '.join(hint)}?)" if hint else
-                                           f" (its parameters: {', '.join(declared) or 'none'})"))
+                raise over_source.error(over_path, f"'{name}.{key}': {not_declared(key)}")
         # each value given: (raw, path, file, scope), the file and scope it is read in
         given = {key: (raw, path + ("params", key), located, scope) for key, raw in comp.params.items()}
         if comp.preset is not None:

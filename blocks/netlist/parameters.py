@@ -300,10 +300,13 @@ def _sole_name(node: ast.AST, entry: Entry) -> str | None:
     return None
 
 
-def _refuse_plain_number_beside_scaled_unit(number: ast.AST, other: ast.AST, entry: Entry) -> None:
-    """A number written bare, added to a quantity written in a scaled unit in the same expression, is
-    refused: in ``"50 mm + 10"`` the 10 counts as SI (10 m) where the writer most likely meant 10 mm. A bare
-    number added to parameters (``"0.085 + m*r**2/n**2"``) stays SI, as everywhere else."""
+def _refuse_plain_number_beside_scaled_unit(node: ast.BinOp, number_left: bool, entry: Entry) -> None:
+    """A number written bare, added to (or subtracted from) a quantity with a dimension written in a scaled
+    unit in the same expression, is refused: in ``"50 mm + 10"`` the 10 counts as SI (10 m) where the
+    writer most likely meant 10 mm. A bare number added to parameters (``"0.085 + m*r**2/n**2"``) stays SI,
+    as everywhere else, and a dimensionless sum (``"1 + 5 %"``, ``"1 + 50 mm/0.2 m"``) is no slip at all
+    (the caller checks that)."""
+    number, other = (node.left, node.right) if number_left else (node.right, node.left)
     while isinstance(number, ast.UnaryOp):
         number = number.operand
     if not isinstance(number, ast.Constant):
@@ -312,8 +315,8 @@ def _refuse_plain_number_beside_scaled_unit(number: ast.AST, other: ast.AST, ent
               if isinstance(n, ast.Name) and n.id in entry.literals and entry.literals[n.id][1].factor != 1.0]
     if scaled:
         _, unit, text = scaled[0]
-        raise UnitError(f"adds the plain number {number.value:g} to {text}: a plain number counts in SI "
-                        f"({si_name(unit)}) there; write its unit")
+        raise UnitError(f"puts the plain number {number.value:g} in a sum with {text}: a plain number counts "
+                        f"in SI ({si_name(unit)}) there; write its unit")
 
 
 def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
@@ -333,9 +336,8 @@ def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
         if isinstance(node.op, (ast.Add, ast.Sub, ast.Mod)):
             if left is not FREE and right is not FREE and not left.same_dimension(right):
                 raise UnitError(f"adds {left.describe_dims()} to {right.describe_dims()}")
-            if (left is FREE) != (right is FREE):
-                _refuse_plain_number_beside_scaled_unit(*((node.left, node.right) if left is FREE
-                                                          else (node.right, node.left)), entry)
+            if (left is FREE) != (right is FREE) and any((left if right is FREE else right).dims):
+                _refuse_plain_number_beside_scaled_unit(node, left is FREE, entry)
             return left if left is not FREE else right
         if isinstance(node.op, ast.Mult):
             return left if right is FREE else right if left is FREE else left * right
@@ -419,19 +421,29 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
 def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], source: Located, path: tuple,
                      bounds=None) -> Entry:
     """An array parameter: each element a number, '<number> <unit>' or an expression."""
-    elements, literals, written = [], {}, []
+    elements, literals, written, bare = [], {}, [], []
     for i, item in enumerate(raw):
         single = make_entry(f"{name}[{i}]", item, unit, scope, source, path + (i,))
         elements.append(single.expression if single.expression is not None else single.constant)
         literals.update(single.literals)
-        if single.expression is None and single.dims is not FREE:
-            written.append((i, item, single.dims))
-    for i, item, dims in written[1:]:  # a list holds one quantity: "0.3 bar" beside "0.3 m" is a slip
+        if single.expression is None:
+            if single.dims is not FREE:
+                written.append((i, item, single.dims))
+            elif single.constant != 0.0:
+                bare.append((i, item))
+    # a list holds one quantity: "0.3 bar" beside "0.3 m" is a slip, and so is 5 beside "0 bar" (5 Pa)
+    for i, item, dims in written[1:]:
         first, first_item, first_dims = written[0]
         if not dims.same_dimension(first_dims):
             raise source.error(path + (i,), f"{name}[{i}] = '{item}' is {quantity_name(dims)}, but {name}[{first}] "
                                             f"= '{first_item}' is {quantity_name(first_dims)}: one list holds one "
                                             f"quantity")
+    scaled = [(i, item, dims) for i, item, dims in written if parse_unit(split_quantity(str(item))[1]).factor != 1.0]
+    if scaled and bare:
+        (i, item), (first, first_item, dims) = bare[0], scaled[0]
+        raise source.error(path + (i,), f"{name}[{i}] = {item} is a plain number beside {name}[{first}] = "
+                                        f"'{first_item}': a plain number counts in SI ({si_name(dims)}) there; "
+                                        f"write its unit")
     if all(not isinstance(e, Expression) for e in elements):
         return Entry(name, unit, tuple(elements), None, scope, source, path, bounds, raw=raw)
     return Entry(name, unit, None, None, scope, source, path, bounds, elements, literals, raw=raw)

@@ -22,9 +22,11 @@ once (``Circuit.from_file``, compiled code from the disk cache) and keeps it for
   be readable on the workers (a shared file system), and each worker process keeps its circuit.
   A task the cluster loses (its worker died, a connection closed: ``future.result()`` raises, which
   :func:`evaluate_case` itself never does) is not the design's failure: it is submitted again, at most
-  ``LOST_RESUBMISSIONS`` times (with the spec scattered again if the lost copy was the only one), and
-  then the job stops with :class:`EvaluationLost`, its log resumable. A failed simulation inside the
-  task is a failed design, as everywhere.
+  ``LOST_RESUBMISSIONS`` times (with the spec scattered again if the lost copy was the only one). Lost
+  once more, a trivial task is sent as a probe: if the cluster answers it, the loss is the design's (its
+  worker dies running it, as a local worker that dies twice on one task: logged as failed, so that the
+  job can end); if not, the cluster's: the job stops with :class:`EvaluationLost`, its log resumable. A
+  failed simulation inside the task is a failed design, as everywhere.
 """
 
 from __future__ import annotations
@@ -305,6 +307,12 @@ class LocalExecutor:
 
 
 LOST_RESUBMISSIONS = 3  # a Dask task the cluster loses is submitted again at most this many times
+PROBE_ANSWER = 42
+
+
+def _probe() -> int:
+    """The trivial task that tells a cluster that answers from one that does not (DaskExecutor._answers)."""
+    return PROBE_ANSWER
 
 
 class EvaluationLost(VphsError):
@@ -371,18 +379,27 @@ class DaskExecutor:
                     part = future.result()
                 except Exception as exc:  # evaluate_case never raises: the cluster lost the task, not the design
                     losses[i, k] = losses.get((i, k), 0) + 1
-                    if losses[i, k] > LOST_RESUBMISSIONS:
-                        raise EvaluationLost(
-                            f"the Dask cluster lost an evaluation {losses[i, k]} times ({type(exc).__name__}: "
-                            f"{exc}); it is not a failure of the design and was not logged") from None
-                    pending.add(submit(i, k, lost_with=spec))
-                    continue
+                    if losses[i, k] <= LOST_RESUBMISSIONS:
+                        pending.add(submit(i, k, lost_with=spec))
+                        continue
+                    lost = f"the Dask cluster lost this evaluation {losses[i, k]} times ({type(exc).__name__}: {exc})"
+                    if not self._answers():
+                        raise EvaluationLost(f"{lost.replace('this', 'an')}, and does not answer a probe either; it "
+                                             f"is not a failure of the design and was not logged") from None
+                    part = _failed_case(self.spec, k, f"{lost}, while it answers others: its worker dies running it")
                 record = assembler.add(i, part)
                 if record is not None:
                     yield i, record
         finally:
             for future in futures:
                 future.cancel()
+
+    def _answers(self, timeout: float = 60.0) -> bool:
+        """Whether the cluster still runs a trivial task (within ``timeout`` s)."""
+        try:
+            return self.client.submit(_probe, pure=False).result(timeout=timeout) == PROBE_ANSWER
+        except Exception:  # lost, cancelled, timed out: the cluster is not answering
+            return False
 
     def close(self) -> None:
         if self.own_client:

@@ -94,6 +94,7 @@ from __future__ import annotations
 import hashlib
 import json
 import math
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Literal, Union
@@ -365,10 +366,12 @@ _ALL_FIELDS = {name for m in (JobFile, CostSpec, SweepSpec, SweepRange, TermSpec
                for name in m.model_fields}
 
 
-def source_digests(files: list[str]) -> dict[str, str]:
+def source_digests(files: list[str], root: Path) -> dict[str, str]:
     """File -> digest of its bytes, for every file a circuit is built from (``FlatCircuit.files``: the
-    netlist, its subsystem files, its data files); ``--resume`` refuses a log when one of them changed."""
-    return {file: hashlib.sha256(Path(file).read_bytes()).hexdigest()[:16] for file in files}
+    netlist, its subsystem files, its data files); ``--resume`` refuses a log when one of them changed.
+    Files are named relative to ``root`` (the netlist's folder), so that a project moved or mounted
+    elsewhere still resumes, as the job's fingerprint does."""
+    return {os.path.relpath(file, root): hashlib.sha256(Path(file).read_bytes()).hexdigest()[:16] for file in files}
 
 
 def _dimension(output):
@@ -436,7 +439,7 @@ class _Resolver:
             sweep_combine=m.sweep.combine if m.sweep else "grid",
         )
         job.fingerprint = self.fingerprint(netlist)
-        job.sources = source_digests(self.circuit.flat.files)
+        job.sources = source_digests(self.circuit.flat.files, Path(netlist).resolve().parent)
         return job
 
     def name(self) -> str:

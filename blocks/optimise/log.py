@@ -67,7 +67,7 @@ def point_id(index: int, x) -> str:
 
 def changed_source(old: dict[str, str] | None, new: dict[str, str] | None) -> str | None:
     """Which file the circuit is built from changed between two ``sources`` (file -> digest), as a phrase
-    ("/x/parts/axis.yaml changed"); None if none did, or if either is unknown (a log of an older vphs)."""
+    ("parts/axis.yaml changed"); None if none did, or if either is unknown."""
     if old is None or new is None:
         return None
     for file in {**old, **new}:
@@ -128,6 +128,10 @@ class EvaluationLog:
             raise LogError(f"{path}: this job's output folder holds a log already ({log._count_lines()} lines); "
                            f"continue it with --resume, or give another output folder (or delete this one)")
         header = log._load()
+        if "sources" not in header:  # its evaluation 0 is the method's first point, not the netlist's design
+            raise LogError(f"{path}: this log was written by an earlier version of vphs (before the netlist's own "
+                           f"design was evaluated first and the circuit's files recorded); this version cannot "
+                           f"continue it -- run the job into another output folder")
         changed = changed_source(header.get("sources"), sources)
         if changed:
             raise LogError(f"{path}: {changed} since the log was written; its results would not be this "

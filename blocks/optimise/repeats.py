@@ -10,7 +10,11 @@ warnings), takes no time (``seconds`` 0, no ``pids``) and says ``"repeat_of": <i
 simulated>``. Of equal points in one batch the first is simulated and the others are answered from it.
 
 A simulation is deterministic, so the method sees the cost it would have got by simulating the point
-again: its path and its result are unchanged, only simulations are saved. A repeat is an evaluation of
+again: its path and its result are unchanged, only simulations are saved. One exception: the netlist's
+own design is matched by the coordinates it maps to, and a coordinate does not always map back to the
+value exactly (a log-scaled bound: Kp = 4 -> x -> 3.9999999999999996); a method starting there (below)
+is answered with the netlist's value itself, so its first cost can differ from what simulating its
+point would give in the last digits (about 1e-7 relative in the case seen). A repeat is an evaluation of
 the method like any other: it counts against ``max_evaluations``, and the report says how many of the
 evaluations were repeats. Typical repeats: the Complex method reflecting a design onto a bound it was
 clipped to before, and ``nelder_mead`` with ``start: netlist``, whose first point is the netlist's own

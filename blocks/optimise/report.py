@@ -138,7 +138,7 @@ def netlist_comparison(summary) -> tuple[str, bool]:
     if start is None:
         return "", False
     if start["status"] != "ok":
-        return f"the netlist's own design failed ({start.get('error')})", False
+        return f"the netlist's own design failed ({start.get('error')})", True
     if best is None:
         return f"the netlist's own design costs {_fmt(start['cost'])}; no design of the method worked", True
     if best["cost"] >= start["cost"]:

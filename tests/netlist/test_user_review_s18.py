@@ -48,11 +48,14 @@ def error(tmp_path: Path, **kw) -> str:
 def test_a_plain_number_added_to_a_scaled_unit_is_refused(tmp_path):
     """'50 mm + 10' was 10.05 m (the 10 read as SI)."""
     message = error(tmp_path, value='"50 mm + 10"')
-    assert "net.yaml:" in message and "adds the plain number 10 to 50 mm: a plain number counts in SI (m)" in message
+    assert "net.yaml:" in message and "puts the plain number 10 in a sum with 50 mm: a plain number counts in SI " \
+                                     "(m) there" in message
+    assert "puts the plain number 10 in a sum with 50 mm" in error(tmp_path, value='"10 - 50 mm"')
 
 
 @pytest.mark.parametrize("value, expected", [('"50 mm + 10 mm"', 0.06), ('"0.05 + 0.01"', 0.06),
-                                             ('"2*30 mm"', 0.06), ('"60 mm"', 0.06)])
+                                             ('"2*30 mm"', 0.06), ('"60 mm"', 0.06),
+                                             ('"0.3*(1 + 5 %)"', 0.315), ('"0.3*(1 - 50 mm/0.25 m)"', 0.24)])
 def test_sums_with_units_written_or_all_si_are_taken(tmp_path, value, expected):
     values = circuit(tmp_path, value=value).vectors().values
     assert values["ref.value"] == pytest.approx(expected)
@@ -69,6 +72,10 @@ def test_one_list_of_two_dimensions_is_refused(tmp_path):
                             'ref:  {type: profile, params: {times: [0, 1], values: ["0.3 bar", "0.3 m"]}}')
     message = error(tmp_path, text=text)
     assert "ref.values[1] = '0.3 m' is a length, but ref.values[0] = '0.3 bar' is a pressure" in message
+    bare = text.replace('values: ["0.3 bar", "0.3 m"]', 'values: ["0 bar", 5]')
+    assert "ref.values[1] = 5 is a plain number beside ref.values[0] = '0 bar': a plain number counts in SI (Pa)" \
+        in error(tmp_path, text=bare)
+    circuit(tmp_path, text=text.replace('values: ["0.3 bar", "0.3 m"]', 'values: ["0 mm", 0]')).vectors()
 
 
 def test_a_cylinder_started_outside_its_stroke_is_refused(tmp_path):

@@ -140,3 +140,36 @@ def test_an_evaluation_the_cluster_keeps_losing_stops_the_job_resumably(tmp_path
     resumed = run_optimise(load_job(on_dask.file), resume=True, workers=1, quiet=True, report=False)
     assert resumed.replayed == len(logged)
     assert on_path(resumed) == on_path(run_optimise(here, workers=1, quiet=True, report=False))
+
+
+class DesignKillingClient(LosingClient):
+    """A client whose cluster loses every task of one design (as if that design killed its worker each
+    time) and runs every other."""
+
+    def __init__(self, client, deadly: dict):
+        super().__init__(client, keep=0)
+        self.deadly = deadly
+
+    def submit(self, fn, *args, **kwargs):
+        deadly = len(args) > 1 and args[1] == self.deadly  # (spec, design, k): an evaluation of that design
+        return self.client.submit(_lost if deadly else fn, *args, **kwargs)
+
+
+def test_a_design_that_kills_its_worker_every_time_is_a_failed_design_and_the_job_ends(tmp_path, monkeypatch):
+    """A review: such a design stopped the job, and --resume replayed it, so the job could never end. It is
+    now failed (as a local worker that dies twice on one task), while the other designs run."""
+    from distributed import Client, LocalCluster
+
+    from blocks.optimise import executors, runner
+
+    on_dask = job(tmp_path, "dask")
+    deadly = dict(load_job(on_dask.file).start_values)  # the netlist's own design, evaluated first
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False, dashboard_address=None) as cluster, \
+            Client(cluster) as client:
+        monkeypatch.setattr(runner, "make_executor", lambda spec, workers, scheduler, _:
+                            executors.DaskExecutor(spec, client=DesignKillingClient(client, deadly)))
+        s = run_optimise(load_job(on_dask.file), quiet=True, report=False)
+    logged = records(on_dask.output)
+    failed = [r for r in logged.values() if r["status"] != "ok"]
+    assert [r["parameters"] for r in failed] == [deadly] and "lost this evaluation 4 times" in failed[0]["error"]
+    assert "while it answers others: its worker dies running it" in failed[0]["error"] and len(logged) > 5
