@@ -300,12 +300,12 @@ def _sole_name(node: ast.AST, entry: Entry) -> str | None:
     return None
 
 
-def _refuse_plain_number_beside_scaled_unit(node: ast.BinOp, number_left: bool, entry: Entry) -> None:
+def _refuse_plain_number_beside_scaled_unit(node: ast.BinOp, number_left: bool, dims: Unit, entry: Entry) -> None:
     """A number written bare, added to (or subtracted from) a quantity with a dimension written in a scaled
     unit in the same expression, is refused: in ``"50 mm + 10"`` the 10 counts as SI (10 m) where the
     writer most likely meant 10 mm. A bare number added to parameters (``"0.085 + m*r**2/n**2"``) stays SI,
     as everywhere else, and a dimensionless sum (``"1 + 5 %"``, ``"1 + 50 mm/0.2 m"``) is no slip at all
-    (the caller checks that)."""
+    (the caller checks that). ``dims``: the sum's dimension, whose SI unit the number counts in."""
     number, other = (node.left, node.right) if number_left else (node.right, node.left)
     while isinstance(number, ast.UnaryOp):
         number = number.operand
@@ -314,9 +314,8 @@ def _refuse_plain_number_beside_scaled_unit(node: ast.BinOp, number_left: bool, 
     scaled = [entry.literals[n.id] for n in ast.walk(other)
               if isinstance(n, ast.Name) and n.id in entry.literals and entry.literals[n.id][1].factor != 1.0]
     if scaled:
-        _, unit, text = scaled[0]
-        raise UnitError(f"puts the plain number {number.value:g} in a sum with {text}: a plain number counts "
-                        f"in SI ({si_name(unit)}) there; write its unit")
+        raise UnitError(f"puts the plain number {number.value:g} in a sum with {scaled[0][2]}: a plain number "
+                        f"counts in SI ({si_name(dims)}) there; write its unit")
 
 
 def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
@@ -337,7 +336,7 @@ def _infer(node: ast.AST, entry: Entry, known: dict[str, Unit | None]):
             if left is not FREE and right is not FREE and not left.same_dimension(right):
                 raise UnitError(f"adds {left.describe_dims()} to {right.describe_dims()}")
             if (left is FREE) != (right is FREE) and any((left if right is FREE else right).dims):
-                _refuse_plain_number_beside_scaled_unit(node, left is FREE, entry)
+                _refuse_plain_number_beside_scaled_unit(node, left is FREE, left if right is FREE else right, entry)
             return left if left is not FREE else right
         if isinstance(node.op, ast.Mult):
             return left if right is FREE else right if left is FREE else left * right
