@@ -14,12 +14,15 @@ DRIVE_LINE = ROOT / "netlists" / "opt" / "drive_line.yaml"
 KNOWN_OPTIMUM = Path(__file__).resolve().parent / "netlists" / "known_optimum.yaml"
 
 
-def write_job(tmp_path, kp_bounds: str = "{min: 2, max: 20, log: true}", budget: int = 30) -> Path:
+def _job(tmp_path, netlist: Path, body: str) -> Path:
+    """job.yaml in ``tmp_path``: the netlist, an output folder beside it, seed 3, then ``body``."""
     path = tmp_path / "job.yaml"
-    path.write_text(f"""\
-netlist: {DRIVE_LINE}
-output: {tmp_path / 'out'}
-seed: 3
+    path.write_text(f"netlist: {netlist}\noutput: {tmp_path / 'out'}\nseed: 3\n" + body)
+    return path
+
+
+def write_job(tmp_path, kp_bounds: str = "{min: 2, max: 20, log: true}", budget: int = 30) -> Path:
+    return _job(tmp_path, DRIVE_LINE, f"""\
 parameters:
   valve.A_max: {{min: "60 mm^2", max: "250 mm^2"}}
   spool.wn:    {{min: "4 Hz", max: "20 Hz"}}
@@ -31,26 +34,20 @@ cost:
     vel: {{kind: ise, signal: v, reference: v_ref, unit: mm/s}}
 algorithm: {{method: complex, max_evaluations: {budget}}}
 """)
-    return path
 
 
 def write_known_optimum_job(tmp_path) -> Path:
     """A job over tests/optimise/netlists/known_optimum.yaml, whose netlist design (k = 1) is the exact
     optimum, cost 0: no point the method tries can be better (k exactly 1.0 aside)."""
-    path = tmp_path / "job.yaml"
-    path.write_text(f"""\
-netlist: {KNOWN_OPTIMUM}
-output: {tmp_path / 'out'}
-seed: 3
+    return _job(tmp_path, KNOWN_OPTIMUM, """\
 parameters:
-  k:      {{min: 0.5, max: 3}}
-  sys.wn: {{min: "5 rad/s", max: "20 rad/s"}}
+  k:      {min: 0.5, max: 3}
+  sys.wn: {min: "5 rad/s", max: "20 rad/s"}
 cost:
   terms:
-    err: {{kind: ise, signal: y, reference: r}}
-algorithm: {{method: complex, max_evaluations: 20}}
+    err: {kind: ise, signal: y, reference: r}
+algorithm: {method: complex, max_evaluations: 20}
 """)
-    return path
 
 
 def test_a_best_worse_than_the_netlist_design_is_said(tmp_path, capsys):
