@@ -13,6 +13,7 @@ structure and order (:mod:`blocks.compiler.structure`) -> generated, numba-compi
 from __future__ import annotations
 
 import os
+import re
 import sys
 import time
 from dataclasses import dataclass
@@ -103,7 +104,8 @@ class Circuit:
                             for s in comp.cls.states if s.size is None})
             problem = comp.cls.check_values(checked)
             if problem:
-                raise comp.source.error(comp.path + ("params",), f"{comp_name}: {problem}")
+                raise comp.source.error(comp.path + ("params",), f"{comp_name}: {problem}"
+                                        + self._data_file_places(comp_name, problem))
         x0 = np.zeros(st.n_states)
         for net, slot in st.net_state.items():
             x0[slot.index] = values.get(f"{net}.initial", 0.0)
@@ -220,6 +222,17 @@ class Circuit:
         k = int(np.argmax(np.abs(outcome.X[:, slot.index])))
         return (f"{self._pressure_name(net)} reached {outcome.X[k, slot.index] / 1e5:.3g} bar at t = "
                 f"{outcome.t[k]:.4g} s, beyond any hydraulic pressure (over {P_BEYOND / 1e5:g} bar)")
+
+    def _data_file_places(self, comp: str, problem: str) -> str:
+        """For a check's message naming array elements (``times[2]``) read from a data file: where in that
+        file each one is (`` (times[2] is ref.csv:5)``), else ''."""
+        places = []
+        for name, index in dict.fromkeys(re.findall(r"\b([A-Za-z_]\w*)\[(\d+)\]", problem)):
+            entry = self.flat.parameters.entries.get(f"{comp}.{name}")
+            place = entry.element_place(int(index)) if entry is not None else None
+            if place:
+                places.append(f"{name}[{index}] is {place}")
+        return f" ({'; '.join(places)})" if places else ""
 
     def _cavitation(self, outcome, vec: Vectors) -> list[str]:
         """A line for each pressure state that fell below the vapour pressure. With the cavitation law on

@@ -380,9 +380,9 @@ class _Builder:
 
     def _array_entry(self, entry_name, raw, param, located: Located, path: tuple, name: str, scope) -> Entry:
         if isinstance(raw, spec.CsvColumn):
-            values = read_csv_column(Path(located.file).parent / raw.csv, raw.column, param.unit, located, path)
+            values, lines = read_csv_column(Path(located.file).parent / raw.csv, raw.column, param.unit, located, path)
             self.read(Path(located.file).parent / raw.csv)
-            return Entry(entry_name, param.unit, values, None, scope, located, path, param, raw=raw)
+            return Entry(entry_name, param.unit, values, None, scope, located, path, param, raw=raw, lines=lines)
         if not isinstance(raw, list) or not raw:
             raise located.error(path, f"{name}: {param.name} takes a non-empty list of values or {{csv:, column:}}")
         return make_array_entry(entry_name, raw, param.unit, scope, located, path, param)
@@ -594,9 +594,9 @@ class _Builder:
         return comp_name, port_name
 
 
-def read_csv_column(file: Path, column: str, unit: str, located: Located, path: tuple) -> tuple:
+def read_csv_column(file: Path, column: str, unit: str, located: Located, path: tuple) -> tuple[tuple, list[int]]:
     """One column of a data file (:func:`blocks.datafile.read_table`: header cells ``name [unit]``), in SI,
-    its unit checked against the parameter's declared unit."""
+    its unit checked against the parameter's declared unit; and the file line of each value."""
     from blocks.datafile import read_table
 
     try:
@@ -619,4 +619,4 @@ def read_csv_column(file: Path, column: str, unit: str, located: Located, path: 
         raise located.error(path, f"{file}:{table.lines[row]}: column '{column}' has an empty cell")
     if values.size == 0:
         raise located.error(path, f"{file}: column '{column}' has no values")
-    return tuple(float(v) for v in values)
+    return tuple(float(v) for v in values), list(table.lines)

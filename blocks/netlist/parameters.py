@@ -51,6 +51,13 @@ class Entry:
     literals: dict[str, tuple[float, Unit, str]] = field(default_factory=dict)
     dims: Unit | None = FREE  # the written unit of a constant, or the declared unit (FREE for a bare number)
     raw: object = None  # the text as written (re-read when a net's kind fixes the unit of its initial value)
+    lines: list[int] | None = None  # an array read from a data file ({csv:, column:}): each element's file line
+
+    def element_place(self, i: int) -> str | None:
+        """Where element ``i`` of an array read from a data file was written (``ref.csv:7``), else None."""
+        if self.lines is None or not 0 <= i < len(self.lines):
+            return None
+        return f"{getattr(self.raw, 'csv', '?')}:{self.lines[i]}"
 
     def dependencies(self) -> set[str]:
         found = set(self.expression.names) if self.expression is not None else set()

@@ -111,6 +111,17 @@ def test_an_empty_cell_in_a_data_file_column_is_named_by_its_line(tmp_path):
     assert "ref.csv:4: column 'x_ref' has an empty cell" in error(tmp_path, text=text)
 
 
+def test_unsorted_times_read_from_a_data_file_are_named_by_their_lines(tmp_path):
+    """It named list positions only (times[1], times[2]), not where they are in the data file."""
+    (tmp_path / "ref.csv").write_text("# a comment\nt [s],x_ref [mm]\n0,100\n0.21,150\n0.2,200\n")
+    text = CYLINDER.replace("ref:  {type: constant, params: {value: VALUE}}",
+                            "ref:  {type: profile, params: {times: {csv: ref.csv, column: t}, "
+                            "values: {csv: ref.csv, column: x_ref}}}")
+    message = error(tmp_path, text=text)
+    assert "times must be strictly increasing (times[1] = 0.21, times[2] = 0.2) (times[1] is ref.csv:4; " \
+           "times[2] is ref.csv:5)" in message
+
+
 def test_the_ramp_slope_takes_a_signal_unit_per_second(tmp_path):
     """'100 mm/s' was refused (expected 1/s) though y0 and y1 take any unit."""
     text = CYLINDER.replace("ref:  {type: constant, params: {value: VALUE}}",
