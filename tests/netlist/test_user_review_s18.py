@@ -93,31 +93,29 @@ def test_the_cylinder_gives_its_own_position_to_a_controller(tmp_path):
     assert x[0] == pytest.approx(0.1) and x[-1] > x[0]  # 100 bar on A extends it
 
 
-def test_a_data_file_column_without_unit_is_named_as_such(tmp_path):
-    """It said "no column 'x_ref' (columns: t)" of a column that is there."""
-    (tmp_path / "ref.csv").write_text("t [s],x_ref\n0,0.1\n1,0.2\n")
+def csv_profile_error(tmp_path: Path, csv_text: str) -> str:
+    """The error of the cylinder circuit whose reference is a profile read from ref.csv (t and x_ref)."""
+    (tmp_path / "ref.csv").write_text(csv_text)
     text = CYLINDER.replace("ref:  {type: constant, params: {value: VALUE}}",
                             "ref:  {type: profile, params: {times: {csv: ref.csv, column: t}, "
                             "values: {csv: ref.csv, column: x_ref}}}")
-    message = error(tmp_path, text=text)
+    return error(tmp_path, text=text)
+
+
+def test_a_data_file_column_without_unit_is_named_as_such(tmp_path):
+    """It said "no column 'x_ref' (columns: t)" of a column that is there."""
+    message = csv_profile_error(tmp_path, "t [s],x_ref\n0,0.1\n1,0.2\n")
     assert "ref.csv: column 'x_ref' has no unit in its header" in message and "'x_ref [<unit>]'" in message
 
 
 def test_an_empty_cell_in_a_data_file_column_is_named_by_its_line(tmp_path):
-    (tmp_path / "ref.csv").write_text("# a comment\nt [s],x_ref [mm]\n0,100\n1,\n2,200\n")
-    text = CYLINDER.replace("ref:  {type: constant, params: {value: VALUE}}",
-                            "ref:  {type: profile, params: {times: {csv: ref.csv, column: t}, "
-                            "values: {csv: ref.csv, column: x_ref}}}")
-    assert "ref.csv:4: column 'x_ref' has an empty cell" in error(tmp_path, text=text)
+    message = csv_profile_error(tmp_path, "# a comment\nt [s],x_ref [mm]\n0,100\n1,\n2,200\n")
+    assert "ref.csv:4: column 'x_ref' has an empty cell" in message
 
 
 def test_unsorted_times_read_from_a_data_file_are_named_by_their_lines(tmp_path):
     """It named list positions only (times[1], times[2]), not where they are in the data file."""
-    (tmp_path / "ref.csv").write_text("# a comment\nt [s],x_ref [mm]\n0,100\n0.21,150\n0.2,200\n")
-    text = CYLINDER.replace("ref:  {type: constant, params: {value: VALUE}}",
-                            "ref:  {type: profile, params: {times: {csv: ref.csv, column: t}, "
-                            "values: {csv: ref.csv, column: x_ref}}}")
-    message = error(tmp_path, text=text)
+    message = csv_profile_error(tmp_path, "# a comment\nt [s],x_ref [mm]\n0,100\n0.21,150\n0.2,200\n")
     assert "times must be strictly increasing (times[1] = 0.21, times[2] = 0.2) (times[1] is ref.csv:4; " \
            "times[2] is ref.csv:5)" in message
 
