@@ -9,6 +9,7 @@
     vphs optimise JOB [--resume] [--scheduler ADDRESS] [--workers N]
     vphs sweep JOB [--resume] [--scheduler ADDRESS] [--workers N]
     vphs calibrate EXPERIMENT [-o folder]
+    vphs linearise NETLIST [--at TIME] [--equilibrium] [--input PARAM ...] [--output SIGNAL ...] [-o modes.csv]
 
 Exit codes: 0 success, 1 the simulation failed (the solver's message says when and where), 2 bad input
 (a netlist, a data file, an argument). Errors are one line, never a traceback.
@@ -87,6 +88,29 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("experiment", help="experiment file (YAML, netlists/experiments/): netlist, data, inputs, outputs, free")
     p.add_argument("-o", "--output", help="folder for the report and the netlists (default out/calibrate/<experiment>)")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress on stderr")
+
+    p = sub.add_parser("linearise", aliases=["linearize"],
+                       help="the circuit linearised about an operating point: modes, state space, frequency response")
+    p.add_argument("netlist")
+    p.add_argument("--at", metavar="TIME", help="the operating point is the state at this time of the run "
+                   "(default: simulation.t_end; the start time: the initial state), e.g. '2 s'")
+    p.add_argument("--equilibrium", action="store_true",
+                   help="the equilibrium found from there instead, the inputs held at their values at that time")
+    p.add_argument("--input", action="append", default=[], metavar="PARAM",
+                   help="a parameter taken as an input (a constant command's value, a load); 'PARAM [unit]' for "
+                        "the unit the response is given per")
+    p.add_argument("--output", action="append", default=[], metavar="SIGNAL",
+                   help="a logged signal taken as an output (default: every logged signal)")
+    p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                   help="override a parameter (SI, or with a unit: --set 'm_load=15 t')")
+    p.add_argument("-o", "--modes", help="CSV file for the modes (eigenvalues, natural frequency, damping, states)")
+    p.add_argument("--state-space", metavar="FILE", help="CSV file for the system matrix [[A, B], [C, D]] (SI)")
+    p.add_argument("--response", metavar="FILE", help="CSV file for the frequency response (needs --input)")
+    p.add_argument("--plot", help="Bode plot of the frequency response (needs --input)")
+    p.add_argument("--f-min", default="0.1", metavar="F", help="lowest frequency of the response, Hz (default 0.1)")
+    p.add_argument("--f-max", default="1000", metavar="F", help="highest frequency of the response, Hz (default 1000)")
+    p.add_argument("--points", type=int, default=400, help="frequencies of the response, log-spaced (default 400)")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary on stderr")
 
     p = sub.add_parser("docs", help="write the netlist reference generated from the block registry")
     p.add_argument("-o", "--output", default="docs/netlist-reference.md")
@@ -463,9 +487,156 @@ def cmd_calibrate(args) -> int:
     return 0
 
 
+def cmd_linearise(args) -> int:
+
+    from blocks import linear_report as report
+    from blocks.circuit import Circuit
+    from blocks.linearise import coupled, frequency_response, linearise, modes, operating_point, steady_gain
+
+    files = {"-o": args.modes, "--state-space": args.state_space, "--response": args.response, "--plot": args.plot}
+    _check_linearise_files(files, args.netlist)
+    if (args.response or args.plot) and not args.input:
+        raise ArgumentError("vphs: --response and --plot show the response to an input: name one with --input PARAM")
+    f_min, f_max = _frequency(args.f_min, "--f-min"), _frequency(args.f_max, "--f-max")
+    if not 0 < f_min < f_max:
+        raise ArgumentError(f"vphs: --f-min {args.f_min} and --f-max {args.f_max}: need 0 < f-min < f-max")
+    if args.points < 2:
+        raise ArgumentError(f"vphs: --points {args.points}: need at least 2")
+    circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
+    overrides = parse_overrides(args.set, circuit, {"t_end": "--at"})
+    circuit.vectors(overrides)
+    inputs, in_units = _linear_inputs(args.input, circuit)
+    logged = {o.name: o for o in circuit.outputs}
+    for name in args.output:
+        if name not in logged:
+            raise ArgumentError(f"vphs: --output '{name}': not a logged signal of {args.netlist} "
+                                f"(logged: {', '.join(logged)})")
+    if len(set(args.output)) < len(args.output):
+        raise ArgumentError("vphs: --output: a signal is named twice")
+    at = None
+    if args.at is not None:
+        from blocks.units import UnitError, quantity
+
+        try:
+            at = quantity(float(args.at) if _is_number(args.at) else args.at, "s")
+        except UnitError as exc:
+            raise ArgumentError(f"vphs: --at '{args.at}': {exc}") from None
+    circuit.compile(quiet=args.quiet)
+    point = operating_point(circuit, overrides, circuit.settings, at, args.equilibrium)
+    model = linearise(circuit, point, inputs, args.output or None)
+    found = modes(model)
+    out_units = [logged[name].display_unit for name in model.output_names]
+    print(f"# {args.netlist} linearised about {point.how}")
+    for note in _linear_notes(model, point):
+        print(f"# {note}")
+    print(report.modes_table(found))
+    reached = coupled(model)
+    if inputs:
+        for line in report.steady_gain_lines(model, steady_gain(model), reached, out_units, in_units):
+            print(line)
+    for name in [n for k, n in enumerate(inputs) if not model.B[:, k].any() and not model.D[:, k].any()]:
+        print(f"vphs: warning: --input {name} moves nothing at this operating point (it sets an initial value, "
+              f"or acts only elsewhere in time?)", file=sys.stderr)
+    writes = []
+    if args.modes:
+        text = report.modes_csv(found)
+        writes.append((Path(args.modes), lambda tmp: tmp.write_text(text, encoding="utf-8")))
+    if args.state_space:
+        matrix = report.state_space_csv(model)
+        writes.append((Path(args.state_space), lambda tmp: tmp.write_text(matrix, encoding="utf-8")))
+    if args.response or args.plot:
+        freqs = report.frequencies_hz(f_min, f_max, args.points)
+        shown = report.response_in_units(model, frequency_response(model, freqs), out_units, in_units)
+        if args.response:
+            table = report.response_csv(freqs, shown, model, out_units, in_units)
+            writes.append((Path(args.response), lambda tmp: tmp.write_text(table, encoding="utf-8")))
+        if args.plot:
+            writes.append((Path(args.plot), lambda tmp: report.bode_plot(tmp, freqs, shown, model, out_units,
+                                                                         in_units, found, reached)))
+    if writes:
+        from blocks.result import write_together
+
+        write_together(*writes)
+        if not args.quiet:
+            print(f"vphs: wrote {', '.join(str(path) for path, _ in writes)}", file=sys.stderr)
+    return 0
+
+
+def _check_linearise_files(files: dict[str, str | None], netlist: str) -> None:
+    given = {option: path for option, path in files.items() if path}
+    seen: dict[Path, str] = {}
+    for option, path in given.items():
+        resolved = Path(path).resolve()
+        if resolved in seen:
+            raise ArgumentError(f"vphs: {seen[resolved]} and {option} name one file, '{path}'")
+        seen[resolved] = option
+        check_output_paths(None if option == "--plot" else path, path if option == "--plot" else None,
+                           inputs=(netlist,))
+
+
+def _frequency(text: str, option: str) -> float:
+    """A frequency in Hz: a bare number is Hz; '2 Hz', '60 rpm' and '100 rad/s' are converted."""
+    from blocks.units import UnitError, quantity
+
+    try:
+        return float(text) if _is_number(text) else quantity(text, "rad/s") / (2 * 3.141592653589793)
+    except UnitError as exc:
+        raise ArgumentError(f"vphs: {option} '{text}': {exc}") from None
+
+
+def _linear_inputs(written: list[str], circuit) -> tuple[list[str], list[str]]:
+    """The --input parameters and the unit each is shown per (its SI unit unless 'name [unit]' was given)."""
+    import re
+
+    from blocks.linearise import input_unit
+    from blocks.units import UnitError, parse_unit
+
+    names, units = [], []
+    entries = circuit.flat.parameters.entries
+    for text in written:
+        match = re.fullmatch(r"\s*(.*?)\s*\[(.+)\]\s*", text)
+        name, unit = (match.group(1), match.group(2).strip()) if match else (text.strip(), None)
+        if name not in entries:
+            raise ArgumentError(f"vphs: --input '{text}': unknown parameter '{name}'"
+                                + _unknown_parameter_hint(name, entries, {}))
+        if name in names:
+            raise ArgumentError(f"vphs: --input '{text}': '{name}' is named twice")
+        if entries[name].elements is not None or isinstance(entries[name].constant, tuple):
+            raise ArgumentError(f"vphs: --input '{text}': '{name}' is an array (a table); name a single value")
+        si = input_unit(circuit, name)
+        if unit is not None:
+            try:
+                same = parse_unit(unit).same_dimension(parse_unit(si))
+            except UnitError as exc:
+                raise ArgumentError(f"vphs: --input '{text}': {exc}") from None
+            if not same and si != "SI":  # a generic parameter ("SI") takes the unit it is given
+                raise ArgumentError(f"vphs: --input '{text}': {name} is in {si}, not in a unit like {unit}")
+        names.append(name)
+        units.append(unit or si)
+    return names, units
+
+
+def _linear_notes(model, point) -> list[str]:
+    """What to know about the point: the states an equilibrium leaves integrating (steady motion), and
+    the fastest-changing state when the point is not at rest."""
+    import numpy as np
+
+    notes = []
+    if point.moving:
+        notes.append(f"in steady motion: {', '.join(point.moving)} keep integrating (a position, an angle)")
+    scaled = np.abs(point.rates) / model.state_nominal
+    resting = [j for j, name in enumerate(model.state_names) if name not in point.moving]
+    if resting and scaled[resting].max() > 1e-6:
+        j = resting[int(np.argmax(scaled[resting]))]
+        rate, unit = (point.rates[j] / 1e5, "bar") if model.state_units[j] == "Pa" else (point.rates[j], model.state_units[j])
+        notes.append(f"not at rest: {model.state_names[j]} changes at {rate:.3g} {unit}/s (the modes describe "
+                     f"small motions about this point of the run; --equilibrium linearises about a rest point)")
+    return notes
+
+
 COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "diff": cmd_diff,
             "optimise": cmd_optimise, "sweep": lambda args: cmd_optimise(args, sweep=True),
-            "calibrate": cmd_calibrate, "docs": cmd_docs}
+            "calibrate": cmd_calibrate, "docs": cmd_docs, "linearise": cmd_linearise, "linearize": cmd_linearise}
 
 
 if __name__ == "__main__":

@@ -1,0 +1,156 @@
+"""What `vphs linearise` shows and writes: the modes as a table, the state-space model and the frequency
+response as CSV (header ``name [unit]``, as every vphs CSV), and a Bode plot.
+
+Units: the state-space CSV is in SI, as the model is; the frequency response is in each output's display
+unit (the netlist's ``outputs:`` unit, bar for a pressure) per the unit each input was asked in (its SI unit
+unless given as ``--input "name [unit]"``).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import math
+
+import numpy as np
+
+from blocks.linearise import LinearModel, Mode
+from blocks.units import parse_unit
+
+SHOWN_SHARE = 0.05  # a state taking part in a mode is named when its share is at least this
+SHOWN_STATES = 4
+
+
+def ratio_unit(out_unit: str, in_unit: str) -> str:
+    """'bar/1' reads badly: a per-unit of a plain number is left out."""
+    return out_unit if in_unit == "1" else f"{out_unit}/({in_unit})" if "/" in in_unit or "*" in in_unit \
+        else f"{out_unit}/{in_unit}"
+
+
+def eigenvalue_text(value: complex) -> str:
+    if value.imag == 0.0:
+        return f"{value.real:.4g}"
+    return f"{value.real:.4g} ± {value.imag:.4g}j"
+
+
+def taking_part(mode: Mode) -> str:
+    named = [(s, share) for s, share in mode.participation if share >= SHOWN_SHARE][:SHOWN_STATES]
+    return ", ".join(f"{s} {100 * share:.0f} %" for s, share in named)
+
+
+def modes_table(found: list[Mode]) -> str:
+    """The modes as aligned text, slowest first."""
+    rows = [("#", "f_n [Hz]", "zeta", "tau [s]", "eigenvalue [1/s]", "states (share)")]
+    for k, mode in enumerate(found, 1):
+        if mode.eigenvalue == 0:
+            rows.append((str(k), "-", "-", "inf", "0 (integrator)", taking_part(mode)))
+            continue
+        rows.append((str(k), f"{mode.natural_frequency:.4g}" if mode.oscillating else "-",
+                     f"{mode.damping:.3g}", f"{mode.time_constant:.3g}", eigenvalue_text(mode.eigenvalue),
+                     taking_part(mode)))
+    widths = [max(len(r[i]) for r in rows) for i in range(len(rows[0]) - 1)]
+    return "\n".join("  ".join(cell.ljust(w) for cell, w in zip(r[:-1], widths)) + "  " + r[-1] for r in rows)
+
+
+def modes_csv(found: list[Mode]) -> str:
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(["mode", "real [1/s]", "imag [1/s]", "f_n [Hz]", "zeta [1]", "tau [s]", "states"])
+    for k, mode in enumerate(found, 1):
+        writer.writerow([k, f"{mode.eigenvalue.real:.10g}", f"{mode.eigenvalue.imag:.10g}",
+                         f"{mode.natural_frequency:.10g}", f"{mode.damping:.6g}", f"{mode.time_constant:.10g}",
+                         "; ".join(f"{s} {share:.4f}" for s, share in mode.participation if share >= 1e-4)])
+    return buffer.getvalue()
+
+
+def state_space_csv(model: LinearModel) -> str:
+    """The system matrix [[A, B], [C, D]] with named rows and columns, SI."""
+    buffer = io.StringIO()
+    buffer.write(f"# linearised about {model.point.how}\n"
+                 "# rows: d(state)/dt, then the outputs; columns: the states, then the inputs (SI units)\n"
+                 "# d(x)/dt = A dx + B du, dy = C dx + D du\n")
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(["row"] + [f"{n} [{u}]" for n, u in zip(model.state_names, model.state_units)]
+                    + [f"{n} [{u}]" for n, u in zip(model.input_names, model.input_units)])
+    for i, (name, unit) in enumerate(zip(model.state_names, model.state_units)):
+        writer.writerow([f"d({name})/dt [{unit}/s]"] + [f"{v:.10g}" for v in model.A[i]]
+                        + [f"{v:.10g}" for v in model.B[i]])
+    for i, (name, unit) in enumerate(zip(model.output_names, model.output_units)):
+        writer.writerow([f"{name} [{unit}]"] + [f"{v:.10g}" for v in model.C[i]] + [f"{v:.10g}" for v in model.D[i]])
+    return buffer.getvalue()
+
+
+def response_in_units(model: LinearModel, response: np.ndarray, out_units: list[str], in_units: list[str]):
+    """The response converted from SI to each output's and input's shown unit (same array shape)."""
+    out_factor = np.array([parse_unit(u).factor for u in out_units])
+    in_factor = np.array([parse_unit(u).factor for u in in_units])
+    return response * in_factor[None, None, :] / out_factor[None, :, None]
+
+
+def response_csv(frequencies: np.ndarray, shown: np.ndarray, model: LinearModel, out_units, in_units) -> str:
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    header = ["f [Hz]"]
+    for out, ou in zip(model.output_names, out_units):
+        for inp, iu in zip(model.input_names, in_units):
+            header += [f"|{out}/{inp}| [{ratio_unit(ou, iu)}]", f"phase {out}/{inp} [deg]"]
+    writer.writerow(header)
+    phases = np.degrees(np.unwrap(np.angle(shown), axis=0))
+    for i, f in enumerate(frequencies):
+        row = [f"{f:.8g}"]
+        for a in range(shown.shape[1]):
+            for b in range(shown.shape[2]):
+                row += [f"{abs(shown[i, a, b]):.10g}", f"{phases[i, a, b]:.8g}"]
+        writer.writerow(row)
+    return buffer.getvalue()
+
+
+def steady_gain_lines(model: LinearModel, gain: np.ndarray, reached: np.ndarray, out_units, in_units) -> list[str]:
+    """One line per output and input: the gain at zero frequency, or why there is none."""
+    shown = gain * np.array([parse_unit(u).factor for u in in_units])[None, :] \
+        / np.array([parse_unit(u).factor for u in out_units])[:, None]
+    return [f"steady-state gain {out}/{inp}: " + (
+        "none (it integrates the input)" if not np.isfinite(shown[a, b]) else
+        f"{shown[a, b]:.6g} {ratio_unit(out_units[a], in_units[b])}" + ("" if reached[a, b] else
+                                                                        " (the input does not reach it)"))
+        for a, out in enumerate(model.output_names) for b, inp in enumerate(model.input_names)]
+
+
+def bode_plot(path, frequencies, shown, model: LinearModel, out_units, in_units, found: list[Mode],
+              reached: np.ndarray) -> None:
+    """Write to ``path`` (its suffix gives the format): magnitude (log) and phase against frequency, one
+    line per output/input pair that the input reaches (``reached``); dotted lines at the natural
+    frequencies of the lightly damped modes (zeta < 0.7) in range."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, (mag, phase) = plt.subplots(2, 1, sharex=True, figsize=(9, 6.5), layout="constrained")
+    phases = np.degrees(np.unwrap(np.angle(shown), axis=0))
+    for a, (out, ou) in enumerate(zip(model.output_names, out_units)):
+        for b, (inp, iu) in enumerate(zip(model.input_names, in_units)):
+            if not reached[a, b]:
+                continue
+            label = f"{out}/{inp} [{ratio_unit(ou, iu)}]"
+            mag.loglog(frequencies, np.abs(shown[:, a, b]), label=label)
+            phase.semilogx(frequencies, phases[:, a, b], label=label)
+    for mode in found:
+        if mode.oscillating and mode.damping < 0.7 and frequencies[0] <= mode.natural_frequency <= frequencies[-1]:
+            for ax in (mag, phase):
+                ax.axvline(mode.natural_frequency, color="grey", linestyle=":", linewidth=1)
+    mag.set_ylabel("|G|")
+    phase.set_ylabel("phase [deg]")
+    phase.set_xlabel("f [Hz]")
+    for ax in (mag, phase):
+        ax.grid(True, which="both", alpha=0.3)
+    mag.legend(loc="best", fontsize="small")
+    fig.suptitle(f"{model.point.how}"[:110], fontsize="medium")
+    try:
+        fig.savefig(path, dpi=110)
+    finally:
+        plt.close(fig)
+
+
+def frequencies_hz(f_min: float, f_max: float, points: int) -> np.ndarray:
+    return np.logspace(math.log10(f_min), math.log10(f_max), points)

@@ -1,0 +1,340 @@
+"""A circuit linearised about an operating point: its state-space model, its modes, its frequency response.
+
+About the operating point (t*, x*, p*) the circuit dx/dt = f(t, x, p), y = g(t, x, p) is, to first order,
+
+    d(dx)/dt = A dx + B du,    dy = C dx + D du
+    A = df/dx,  B = df/du,  C = dg/dx,  D = dg/du          (SI units throughout)
+
+where x is the flat state vector (the nets' pressures, the rigid bodies' speeds, the blocks' own states), y
+the logged signals and u the parameters named as inputs (the value of a ``constant`` command, a load mass, a
+valve's setting). An input is a parameter like any other: it is changed the way an optimiser changes one,
+by evaluating the netlist's parameter table with it overridden, so an expression that reads it (a load
+``m_L`` in an inertia ``J0 + m_L*r^2``) follows.
+
+Derivatives are central differences: state j is moved by h_j = 1e-6 * max(|x_j|, s_j), s_j its nominal
+magnitude (1 bar for a pressure); an input by 1e-6 * |u|, or at u = 0 by 1e-6 of the larger magnitude of
+its declared bounds (1e-6 in SI when it has none). The model holds t fixed at t*: the inputs that are functions of time
+(steps, profiles) are held at their values there.
+
+Modes. The eigenvalues lambda_k of A (computed on A scaled by the states' nominal magnitudes,
+S^-1 A S, which has the same eigenvalues and is better conditioned: a circuit's rates span from a spool's
+1e3/s to a line's 1e9/s). A complex pair is reported once: its undamped natural frequency
+f_n = |lambda|/(2*pi) [Hz], its damping ratio zeta = -Re(lambda)/|lambda| and its time constant
+tau = -1/Re(lambda) [s] (the envelope's decay; negative: it grows). A real eigenvalue is shown with no
+f_n, its tau likewise, and zeta = +1 (decays) or -1 (grows); one at 0 (|lambda| <= 1e-9 times the
+largest) is an integrator (a position, an angle, a quantity the circuit conserves: the oil shut in two
+chambers that one piston joins). The states a mode lives in are its
+participation factors, p_jk = |l_kj * r_jk| / sum_j |l_kj * r_jk| (r_k, l_k the right and left
+eigenvectors): the share of state j in mode k, independent of the states' units.
+
+Frequency response: G(j*w) = C (j*w*I - A)^-1 B + D for each pair of an input and an output, in SI
+(e.g. Pa per unit of command); :func:`frequency_response` returns it complex, the reports convert it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg
+
+from blocks.errors import SimulationError, VphsError
+
+STATE_STEP = 1e-6  # relative central-difference step (the optimum for central differences is ~eps^(1/3))
+INTEGRATOR = 1e-9  # an eigenvalue below this fraction of the largest is taken as 0
+
+
+@dataclass
+class OperatingPoint:
+    """Where the circuit is linearised: the time, the state, and how it was found."""
+
+    t: float
+    x: np.ndarray
+    overrides: dict[str, float]
+    how: str  # "the state at t = 2 s of the run", "the equilibrium with the inputs at t = 2 s"
+    rates: np.ndarray = field(default_factory=lambda: np.zeros(0))  # f(t, x): zero at an equilibrium
+    moving: list[str] = field(default_factory=list)  # states left integrating (steady motion)
+
+
+@dataclass
+class LinearModel:
+    """dx' = A dx + B du, dy = C dx + D du about ``point`` (SI); names and SI units of x, u and y."""
+
+    A: np.ndarray
+    B: np.ndarray
+    C: np.ndarray
+    D: np.ndarray
+    state_names: list[str]
+    state_units: list[str]
+    state_nominal: np.ndarray
+    input_names: list[str]
+    input_units: list[str]
+    output_names: list[str]
+    output_units: list[str]
+    point: OperatingPoint
+
+
+@dataclass
+class Mode:
+    """One eigenvalue of A (a complex pair once, its positive-imaginary member) and where it lives."""
+
+    eigenvalue: complex  # 1/s
+    participation: list[tuple[str, float]]  # (state, share), largest first, shares summing to 1
+
+    @property
+    def oscillating(self) -> bool:
+        return self.eigenvalue.imag > 0.0
+
+    @property
+    def natural_frequency(self) -> float:
+        """Undamped natural frequency [Hz] of an oscillating pair; 0 for a real eigenvalue."""
+        return abs(self.eigenvalue) / (2.0 * math.pi) if self.oscillating else 0.0
+
+    @property
+    def damping(self) -> float:
+        """Damping ratio: -Re/|lambda| for a pair; +1 (decays) or -1 (grows) for a real eigenvalue; nan at 0."""
+        magnitude = abs(self.eigenvalue)
+        if magnitude == 0.0:
+            return float("nan")
+        return -self.eigenvalue.real / magnitude if self.oscillating else math.copysign(1.0, -self.eigenvalue.real)
+
+    @property
+    def time_constant(self) -> float:
+        """-1/Re(lambda) [s]: the decay of the mode (its envelope for a pair); inf for an integrator."""
+        return math.inf if self.eigenvalue.real == 0.0 else -1.0 / self.eigenvalue.real
+
+
+def operating_point(circuit, overrides: dict[str, float], settings, at: float | None = None,
+                    equilibrium: bool = False) -> OperatingPoint:
+    """The state the circuit is in at ``at`` (default: the end of its simulation) when run with
+    ``settings``; with ``equilibrium``, the equilibrium that Newton's method finds from there with the
+    inputs held at their values at that time (a state that only integrates, a position or an angle, may
+    keep moving: the steady motion of a machine at a constant speed)."""
+    t = settings.t_end if at is None else float(at)
+    if t < settings.t_start:
+        raise VphsError(f"the operating point's time {t:g} s is before the simulation's start {settings.t_start:g} s")
+    if t == settings.t_start:
+        x = circuit.vectors(overrides).x0
+        how = f"the initial state (t = {t:g} s)"
+    else:
+        result = circuit.simulate(overrides, settings.with_(t_end=t))
+        x = np.array(result.states[-1], dtype=float)
+        how = f"the state at t = {t:g} s of the run"
+    moving: list[str] = []
+    if equilibrium:
+        found = circuit.equilibrium(overrides, guess=x, t=t)
+        if found.status == 4:
+            moving = _integrating(circuit, t, np.asarray(found.states, dtype=float), overrides, found.sinks)
+        elif found.status != 0:
+            raise SimulationError(f"{circuit.flat.file}: no equilibrium found from {how}: "
+                                  f"{EQUILIBRIUM_FAILURE.get(found.status, 'status ' + str(found.status))}")
+        x = np.array(found.states, dtype=float)
+        how = f"the equilibrium with the inputs held at their values at t = {t:g} s, found from {how}"
+    return OperatingPoint(t, x, dict(overrides), how, _rates(circuit, t, x, overrides), moving)
+
+
+EQUILIBRIUM_FAILURE = {
+    1: "the Jacobian is singular there (no isolated equilibrium: oil shut in between two chambers, or a "
+       "state that rests anywhere; linearise about the state of the run instead, without --equilibrium)",
+    2: "Newton's method did not converge (run longer, --at a later time, to start nearer one)",
+    3: "a value became infinite or not a number",
+}
+
+
+def linearise(circuit, point: OperatingPoint, inputs: list[str] | tuple = (),
+              outputs: list[str] | None = None) -> LinearModel:
+    """A, B, C, D about ``point``; ``inputs`` are parameter names, ``outputs`` logged signals (default all)."""
+    module = circuit.module
+    names = _state_names(circuit)
+    out_names = [o.name for o in circuit.outputs]
+    chosen = out_names if outputs is None else list(outputs)
+    rows = [out_names.index(name) for name in chosen]
+    theta = circuit.vectors(point.overrides).theta
+    x0, t = point.x, point.t
+    n = x0.size
+
+    def f(x, th):
+        dx = np.zeros(n)
+        module.rhs(t, x, th, dx)
+        return dx
+
+    def g(x, th):
+        y = np.zeros(len(out_names))
+        module.observe(t, x, th, y)
+        return y[rows]
+
+    nominal = _state_nominal(circuit)
+    A = np.zeros((n, n))
+    C = np.zeros((len(rows), n))
+    for j in range(n):
+        h = STATE_STEP * max(abs(x0[j]), nominal[j])
+        xp, xm = x0.copy(), x0.copy()
+        xp[j] += h
+        xm[j] -= h
+        A[:, j] = (f(xp, theta) - f(xm, theta)) / (2.0 * h)
+        C[:, j] = (g(xp, theta) - g(xm, theta)) / (2.0 * h)
+    B = np.zeros((n, len(inputs)))
+    D = np.zeros((len(rows), len(inputs)))
+    for k, name in enumerate(inputs):
+        value = circuit.flat.parameters.evaluate(point.overrides)[name]
+        h = _input_step(circuit, name, value)
+        up = circuit.vectors({**point.overrides, name: value + h}).theta
+        down = circuit.vectors({**point.overrides, name: value - h}).theta
+        B[:, k] = (f(x0, up) - f(x0, down)) / (2.0 * h)
+        D[:, k] = (g(x0, up) - g(x0, down)) / (2.0 * h)
+    units = {o.name: o.unit for o in circuit.outputs}
+    return LinearModel(A, B, C, D, names, _state_units(circuit), nominal, list(inputs),
+                       [input_unit(circuit, name) for name in inputs], chosen, [units[o] for o in chosen], point)
+
+
+def modes(model: LinearModel) -> list[Mode]:
+    """The eigenvalues of A, each complex pair once, slowest first, with the states taking part."""
+    values, left, right = _eigen(model)
+    found = []
+    for k, value in enumerate(values):
+        if value.imag < 0.0:
+            continue
+        weights = np.abs(left[k] * right[:, k])
+        total = weights.sum()
+        shares = weights / total if total > 0 else weights
+        order = np.argsort(-shares)
+        found.append(Mode(complex(value), [(model.state_names[j], float(shares[j])) for j in order]))
+    found.sort(key=lambda m: (abs(m.eigenvalue), m.eigenvalue.imag))
+    return found
+
+
+def _scaled(model: LinearModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """A, B, C for the states divided by their nominal magnitudes (x = S z): the same eigenvalues and
+    transfer functions, better conditioned (a circuit's rates span from a spool's 1e3/s to a line's 1e9/s)."""
+    scale = model.state_nominal
+    return model.A * scale[None, :] / scale[:, None], model.B / scale[:, None], model.C * scale[None, :]
+
+
+def _eigen(model: LinearModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Eigenvalues (those under INTEGRATOR times the largest set to 0), left eigenvectors as rows
+    normalised to l_k r_k = 1, right eigenvectors as columns, of the scaled A."""
+    A, _, _ = _scaled(model)
+    if A.size == 0:
+        return np.zeros(0, dtype=complex), np.zeros((0, 0), dtype=complex), np.zeros((0, 0), dtype=complex)
+    values, vl, vr = scipy.linalg.eig(A, left=True, right=True)
+    values = np.where(np.abs(values) <= INTEGRATOR * np.max(np.abs(values)), 0.0j, values)
+    left = vl.conj().T
+    norms = np.einsum("kj,jk->k", left, vr)
+    left = left / np.where(norms == 0, 1.0, norms)[:, None]
+    return values, left, vr
+
+
+def frequency_response(model: LinearModel, frequencies_hz: np.ndarray) -> np.ndarray:
+    """G(j*2*pi*f) for each frequency [Hz]: an array (frequencies, outputs, inputs), complex, SI."""
+    A, B, C = _scaled(model)
+    n = A.shape[0]
+    response = np.empty((len(frequencies_hz), model.C.shape[0], model.B.shape[1]), dtype=complex)
+    for i, f in enumerate(frequencies_hz):
+        response[i] = C @ np.linalg.solve(2j * math.pi * f * np.eye(n) - A, B) + model.D
+    return response
+
+
+def steady_gain(model: LinearModel) -> np.ndarray:
+    """G(0) = D - sum over the modes k with lambda_k != 0 of (C r_k)(l_k B)/lambda_k, per output and input
+    (SI; a sum that cancels to within 1e-9 of its terms is 0); NaN where a mode at 0 is both driven by the input and seen in the output (the output integrates
+    the input: it has no steady value), or everywhere when A has no full set of eigenvectors.
+
+    A mode at 0 that the input does not drive, or the output does not see, leaves the gain finite: the
+    piston position of a cylinder whose flow is the input integrates, but the pressure behind a relief
+    valve does not. (A - solve would call every such circuit singular.)"""
+    values, terms, significant = _modal_terms(model)
+    if terms is None:
+        return np.full(model.D.shape, np.nan)
+    gain = model.D.astype(complex)
+    size = np.abs(model.D)  # what the sum's rounding is relative to
+    integrating = np.zeros(model.D.shape, dtype=bool)
+    for k, value in enumerate(values):
+        if value == 0:
+            integrating |= significant[k]
+        else:
+            gain -= terms[k] / value
+            size = size + np.abs(terms[k] / value)
+    gain = np.where(coupled(model) & (np.abs(gain) > 1e-9 * size), gain.real, 0.0)
+    return np.where(integrating, np.nan, gain)
+
+
+def coupled(model: LinearModel) -> np.ndarray:
+    """Per output and input: does the input reach the output at all (D, or a mode it drives and the
+    output sees)? An exact False is an exact zero transfer function."""
+    _, terms, significant = _modal_terms(model)
+    reached = model.D != 0.0
+    return reached | (significant.any(axis=0) if terms is not None else True)
+
+
+def _modal_terms(model: LinearModel):
+    """Each mode's residue (C r_k)(l_k B), shape (modes, outputs, inputs), and whether it is more than
+    rounding: over 1e-8 of |C_a| |r_k| |l_k| |B_b|. (None, None) when A is defective (a Jordan block: a
+    free mass's speed and position) and no modal sum exists."""
+    values, left, right = _eigen(model)
+    _, B, C = _scaled(model)
+    if values.size and np.linalg.cond(right) > 1e12:
+        return values, None, None
+    seen, driven = C @ right, left @ B  # (outputs, modes), (modes, inputs)
+    terms = np.einsum("ak,kb->kab", seen, driven)
+    bound = 1e-8 * np.einsum("a,k,k,b->kab", np.linalg.norm(C, axis=1), np.linalg.norm(right, axis=0),
+                             np.linalg.norm(left, axis=1), np.linalg.norm(B, axis=0))
+    return values, terms, np.abs(terms) > bound
+
+
+def input_unit(circuit, name: str) -> str:
+    """The SI unit of a parameter: the unit its block declares; for a netlist parameter or a generic one
+    ("SI": a constant's value), that of the quantity it was written with; "1" for a bare number, "SI" for a
+    generic parameter written as a bare number or an expression."""
+    from blocks.units import GENERIC, si_name
+
+    entry = circuit.flat.parameters.entries[name]
+    if entry.unit is not None and entry.unit != GENERIC:
+        return entry.unit
+    if entry.dims is None:  # a bare number (or an expression, whose dimension is not kept)
+        return "1" if entry.unit is None else GENERIC
+    return si_name(entry.dims)
+
+
+def _input_step(circuit, name: str, value: float) -> float:
+    """1e-6 of the input's value; at 0, of the larger magnitude of its declared bounds, else of 1 (SI)."""
+    if value != 0.0:
+        return STATE_STEP * abs(value)
+    bounds = circuit.flat.parameters.entries[name].bounds
+    ends = [abs(b) for b in (getattr(bounds, "lower", None), getattr(bounds, "upper", None)) if b]
+    return STATE_STEP * (max(ends) if ends else 1.0)
+
+
+def _integrating(circuit, t, x, overrides, sinks) -> list[str]:
+    """The states among ``sinks`` (those acting on no other state) that integrate: their rate does not
+    depend on themselves at all (a position, an angle, an integrator) and is not zero."""
+    names, nominal = _state_names(circuit), _state_nominal(circuit)
+    rates = _rates(circuit, t, x, overrides)
+    moving = []
+    for j in np.flatnonzero(sinks):
+        h = STATE_STEP * max(abs(x[j]), nominal[j])
+        up, down = x.copy(), x.copy()
+        up[j] += h
+        down[j] -= h
+        if rates[j] != 0.0 and _rates(circuit, t, up, overrides)[j] == _rates(circuit, t, down, overrides)[j]:
+            moving.append(names[j])
+    return moving
+
+
+def _rates(circuit, t, x, overrides) -> np.ndarray:
+    dx = np.zeros(x.size)
+    circuit.module.rhs(t, np.asarray(x, dtype=float), circuit.vectors(overrides).theta, dx)
+    return dx
+
+
+def _state_names(circuit) -> list[str]:
+    return [slot.name if slot.size == 1 else f"{slot.name}[{i}]"
+            for slot in circuit.structure.states for i in range(slot.size)]
+
+
+def _state_units(circuit) -> list[str]:
+    return [slot.unit for slot in circuit.structure.states for _ in range(slot.size)]
+
+
+def _state_nominal(circuit) -> np.ndarray:
+    return np.array([slot.nominal for slot in circuit.structure.states for _ in range(slot.size)], dtype=float)

@@ -1,0 +1,100 @@
+"""`vphs linearise`: what it prints and writes (in the units asked for), and its refusals, one line each."""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cli
+
+NETLISTS = Path(__file__).parent / "netlists"
+MODES = NETLISTS / "linear_modes.yaml"
+BETA, V, G = 8e8, 2e-3, 2e-11
+
+
+def run(capsys, *args) -> tuple[int, str, str]:
+    code = cli.main(["linearise", *map(str, args)])
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def read_csv(path: Path) -> tuple[list[str], np.ndarray]:
+    rows = [r for r in csv.reader(line for line in path.read_text().splitlines() if not line.startswith("#"))]
+    return rows[0], rows[1:]
+
+
+def test_modes_table_and_files_in_the_units_asked_for(tmp_path, capsys):
+    files = {"-o": tmp_path / "modes.csv", "--state-space": tmp_path / "ss.csv",
+             "--response": tmp_path / "response.csv", "--plot": tmp_path / "bode.png"}
+    args = [MODES, "--at", "0 s", "--input", "qcmd.value [l/min]", "--output", "p", "--output", "qi", "-q",
+            "--f-min", "0.01", "--f-max", "100 Hz", "--points", "50"]
+    for option, path in files.items():
+        args += [option, path]
+    code, out, err = run(capsys, *args)
+    assert code == 0, err
+    assert "linearised about the initial state (t = 0 s)" in out
+    assert "steady-state gain p/qcmd.value: 8.33333 bar/(l/min)" in out  # 1/G: 5e10 Pa/(m^3/s)
+    assert "steady-state gain qi/qcmd.value: none (it integrates the input)" in out
+    header, rows = read_csv(files["--response"])
+    assert header[:3] == ["f [Hz]", "|p/qcmd.value| [bar/(l/min)]", "phase p/qcmd.value [deg]"]
+    f = np.array([float(r[0]) for r in rows])
+    assert f[0] == pytest.approx(0.01) and f[-1] == pytest.approx(100.0) and len(f) == 50
+    exact = 1.0 / (G + 2j * math.pi * f * V / BETA) / 60000 / 1e5  # bar per l/min
+    np.testing.assert_allclose([float(r[1]) for r in rows], np.abs(exact), rtol=1e-7)
+    np.testing.assert_allclose([float(r[2]) for r in rows], np.degrees(np.angle(exact)), atol=1e-5)
+    header, rows = read_csv(files["-o"])
+    assert header == ["mode", "real [1/s]", "imag [1/s]", "f_n [Hz]", "zeta [1]", "tau [s]", "states"]
+    assert any(float(r[1]) == pytest.approx(-BETA * G / V, rel=1e-7) and r[6].startswith("P.p") for r in rows)
+    header, rows = read_csv(files["--state-space"])
+    assert header[0] == "row" and header[-1] == "qcmd.value [SI]"
+    row = next(r for r in rows if r[0] == "d(P.p)/dt [Pa/s]")
+    assert float(row[header.index("P.p [Pa]")]) == pytest.approx(-BETA * G / V, rel=1e-7)
+    assert float(row[-1]) == pytest.approx(BETA / V, rel=1e-7)
+    assert files["--plot"].stat().st_size > 10000
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--input", "qcmd.valu"], "--input 'qcmd.valu': unknown parameter 'qcmd.valu' (did you mean qcmd.value"),
+    (["--input", "m [bar]"], "--input 'm [bar]': m is in kg, not in a unit like bar"),
+    (["--input", "m [furlong]"], "--input 'm [furlong]': unknown unit 'furlong'"),
+    (["--input", "m", "--input", "m"], "'m' is named twice"),
+    (["--output", "pp"], "--output 'pp': not a logged signal"),
+    (["--plot", "{tmp}/b.png"], "--response and --plot show the response to an input: name one with --input"),
+    (["--input", "m", "--f-min", "10", "--f-max", "1"], "need 0 < f-min < f-max"),
+    (["--input", "m", "--f-min", "2 bar"], "--f-min '2 bar'"),
+    (["--at", "-1 s"], "before the simulation's start"),
+    (["--at", "2 bar"], "--at '2 bar'"),
+    (["-o", "{tmp}/m.csv", "--state-space", "{tmp}/m.csv"], "-o and --state-space name one file"),
+    (["-o", str(MODES)], "is an input of this command"),
+    (["--set", "V=-1 l"], "must be positive"),
+    (["--equilibrium"], "no equilibrium found"),
+])
+def test_refusals_are_one_line_and_write_nothing(tmp_path, capsys, args, message):
+    args = [a.replace("{tmp}", str(tmp_path)) for a in args]
+    code, out, err = run(capsys, MODES, "-q", *args)
+    assert code in (1, 2)
+    assert message in err, err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_an_array_parameter_is_not_an_input(tmp_path, capsys):
+    code, _, err = run(capsys, NETLISTS / "second_order_step.yaml", "-q", "--input", "tf.num")
+    assert code == 2 and "'tf.num' is an array (a table); name a single value" in err
+
+
+def test_what_is_said_of_the_operating_point(capsys):
+    rest = NETLISTS / "linear_rest.yaml"
+    code, out, err = run(capsys, rest, "-q", "--equilibrium")
+    assert code == 0, err
+    assert "# in steady motion: acc.x keep integrating" in out and "not at rest" not in out
+    code, out, err = run(capsys, rest, "-q", "--at", "50 ms")
+    assert code == 0, err
+    q, tau = 1e-4, V / (BETA * G)
+    p = q / G + (1e5 - q / G) * math.exp(-0.05 / tau)
+    rate = BETA / V * (q - G * p) / 1e5  # bar/s
+    assert f"# not at rest: P.p changes at {rate:.3g} bar/s" in out
