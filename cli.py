@@ -1,7 +1,7 @@
 """The ``vphs`` command.
 
     vphs validate NETLIST
-    vphs run NETLIST [-o results.csv] [--set name=value ...] [--plot out.png] [--solver S]
+    vphs run NETLIST [-o results.csv] [--set name=value ...] [--plot out.png [--x SIGNAL] [--y SIGNAL ...]] [--solver S]
     vphs blocks [TYPE]
     vphs graph NETLIST [-o circuit.png]
     vphs diff SIMULATED REFERENCE.csv [--x COL] [--y COL|SIM=REF ...] [-o table.csv] [--plot overlay.png]
@@ -50,6 +50,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter, e.g. --set ctrl.Kp=4 --set 'm_load=15 t' (repeatable)")
     p.add_argument("--plot", help="PNG file: the logged signals on a shared time axis")
+    p.add_argument("--x", metavar="SIGNAL", help="the plot's abscissa: a logged signal instead of t (p against Q)")
+    p.add_argument("--y", action="append", default=[], metavar="SIGNAL",
+                   help="a logged signal to plot (repeat for more; default: every one)")
     p.add_argument("--solver", choices=["rodas", "fixed", "lsoda", "bdf", "radau"], help="override the netlist's solver")
     p.add_argument("--t-end", help="override simulation.t_end, e.g. '5 s'")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary on stderr")
@@ -260,6 +263,7 @@ def cmd_run(args) -> int:
 
     check_output_paths(args.output, args.plot, inputs=(args.netlist,))
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
+    _check_plot_signals(args, [o.name for o in circuit.outputs])
     overrides = parse_overrides(args.set, circuit, RUN_SETTING_OPTIONS)  # before the (possibly slow) compilation
     circuit.vectors(overrides)
     settings = circuit.settings
@@ -288,17 +292,32 @@ def cmd_run(args) -> int:
 
         text = result.to_csv_text()
         write_together((Path(args.output), lambda tmp: tmp.write_text(text, encoding="utf-8")),
-                       (Path(args.plot), lambda tmp: result.plot(tmp)))
+                       (Path(args.plot), lambda tmp: result.plot(tmp, x=args.x, y=args.y)))
     elif args.output:
         result.write_csv(args.output)
     elif args.plot:
-        result.plot(args.plot)
+        result.plot(args.plot, x=args.x, y=args.y)
     if not args.quiet:
         stats = ", ".join(f"{k} {v}" for k, v in result.stats.items())
         print(f"vphs: {args.netlist}: {settings.t_end - settings.t_start:g} s simulated in {result.seconds * 1e3:.1f} ms "
               f"({settings.solver}; {stats})" + (f"; wrote {args.output}" if args.output else "")
               + (f", {args.plot}" if args.plot else ""), file=sys.stderr)
     return 0
+
+
+def _check_plot_signals(args, logged: list[str]) -> None:
+    """--x and --y choose what --plot draws: logged signals, each once, and only with --plot."""
+    chosen = ([args.x] if args.x else []) + args.y
+    if chosen and not args.plot:
+        raise ArgumentError(f"vphs: {'--x' if args.x else '--y'} chooses what --plot draws: give --plot FILE too")
+    for option, name in [("--x", args.x)] * bool(args.x) + [("--y", name) for name in args.y]:
+        if name not in logged:
+            raise ArgumentError(f"vphs: {option} '{name}': not a logged signal of {args.netlist} "
+                                f"(logged: {', '.join(logged)})")
+    if len(set(args.y)) < len(args.y):
+        raise ArgumentError("vphs: --y: a signal is named twice")
+    if args.x and args.y == [args.x]:
+        raise ArgumentError(f"vphs: --x and --y name only '{args.x}': nothing to plot against it")
 
 
 _PROGRESS_LINE = {"open": False}  # a progress line on stderr not yet ended by a newline

@@ -85,26 +85,31 @@ class Result:
     def write_csv(self, path: str | Path) -> None:
         atomic_write_text(Path(path), self.to_csv_text())
 
-    def plot(self, path: str | Path, title: str | None = None) -> None:
-        """One panel per unit, signals of the same unit together, a shared time axis."""
+    def plot(self, path: str | Path, title: str | None = None, x: str | None = None,
+             y: list[str] | None = None) -> None:
+        """The logged signals ``y`` (default all) against ``x`` (default t): one panel per unit, signals of
+        the same unit together, a shared abscissa. Against a signal the curve is drawn as the run went
+        (a pressure against a flow, a force against a position), so a hysteresis shows as a loop."""
         import matplotlib
 
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
 
+        shown = [self.names.index(name) for name in (y or self.names) if name != x]
         groups: dict[str, list[int]] = {}
-        for k, unit in enumerate(self.display_units):
-            groups.setdefault(unit, []).append(k)
+        for k in shown:
+            groups.setdefault(self.display_units[k], []).append(k)
+        abscissa = self.t if x is None else self.in_unit(x)
         n = max(1, len(groups))
         # constrained layout leaves room for the title above the first panel (tight_layout does not)
         fig, axes = plt.subplots(n, 1, sharex=True, figsize=(9, 2.2 + 1.8 * n), squeeze=False, layout="constrained")
         for ax, (unit, members) in zip(axes[:, 0], groups.items()):
             for k in members:
-                ax.plot(self.t, self.in_unit(self.names[k]), label=self.names[k])
+                ax.plot(abscissa, self.in_unit(self.names[k]), label=self.names[k])
             ax.set_ylabel(f"[{unit}]")
             ax.grid(True, alpha=0.3)
             ax.legend(loc="best", fontsize="small")
-        axes[-1, 0].set_xlabel("t [s]")
+        axes[-1, 0].set_xlabel("t [s]" if x is None else f"{x} [{self.display_units[self.names.index(x)]}]")
         fig.suptitle(title or Path(self.file).name)
         try:
             atomic_write_figure(fig, Path(path))
