@@ -510,7 +510,9 @@ def cmd_linearise(args) -> int:
 
     from blocks import linear_report as report
     from blocks.circuit import Circuit
-    from blocks.linearise import coupled, frequency_response, linearise, modes, operating_point, steady_gain
+    from blocks.linearise import (coupled, frequency_response, linearise, logged_values, modes, operating_point,
+                                  steady_gain)
+    from blocks.units import parse_unit
 
     files = {"-o": args.modes, "--state-space": args.state_space, "--response": args.response, "--plot": args.plot}
     _check_linearise_files(files, args.netlist)
@@ -548,6 +550,9 @@ def cmd_linearise(args) -> int:
     print(f"# {args.netlist} linearised about {point.how}")
     for note in _linear_notes(model, point):
         print(f"# {note}")
+    shown = [f"{name} = {value / parse_unit(logged[name].display_unit).factor:.6g} {logged[name].display_unit}"
+             for name, value in logged_values(circuit, point).items()]
+    print(f"# there: {', '.join(shown)}")
     print(report.modes_table(found))
     reached = coupled(model)
     if inputs:

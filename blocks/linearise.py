@@ -321,6 +321,13 @@ def _integrating(circuit, t, x, overrides, sinks) -> list[str]:
     return moving
 
 
+def logged_values(circuit, point: OperatingPoint) -> dict[str, float]:
+    """The logged signals at the operating point, SI, by name."""
+    y = np.zeros(len(circuit.outputs))
+    circuit.module.observe(point.t, np.asarray(point.x, dtype=float), circuit.vectors(point.overrides).theta, y)
+    return {o.name: float(v) for o, v in zip(circuit.outputs, y)}
+
+
 def _rates(circuit, t, x, overrides) -> np.ndarray:
     dx = np.zeros(x.size)
     circuit.module.rhs(t, np.asarray(x, dtype=float), circuit.vectors(overrides).theta, dx)

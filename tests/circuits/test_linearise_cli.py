@@ -92,6 +92,7 @@ def test_what_is_said_of_the_operating_point(capsys):
     code, out, err = run(capsys, rest, "-q", "--equilibrium")
     assert code == 0, err
     assert "# in steady motion: acc.x keep integrating" in out and "not at rest" not in out
+    assert "# there: p = 50 bar," in out  # q/G = 1e-4 m^3/s / 2e-11 m^3/(s*Pa)
     code, out, err = run(capsys, rest, "-q", "--at", "50 ms")
     assert code == 0, err
     q, tau = 1e-4, V / (BETA * G)
