@@ -178,6 +178,10 @@ class Block:
     presets: ClassVar[dict[str, dict[str, float | str]]] = {}
     """Named parameter sets from data sheets or the thesis's tables (``preset:`` in a netlist); values are
     SI numbers or '<number> <unit>' strings; the component's own ``params`` override them."""
+    signal_dimensions: ClassVar[dict[str, tuple[str, ...]]] = {}
+    """Generic ("SI") signal ports whose dimension is that of parameters as written: a constant's output
+    is in its ``value``'s unit, a lookup table's input in its breakpoints'. A netlist whose port on the net
+    declares another dimension is refused (a constant of "6 bar" driving a flow source's ``q``)."""
     rigid_link: ClassVar[tuple[str, str] | None] = None
     """(a, b): the two ports are joined rigidly, w_b = ratio(params) * w_a (gears, rack and pinion)."""
     outputs: ClassVar[Callable | None] = None

@@ -27,6 +27,7 @@ from blocks.compiler.structure import Structure, analyse, cavitation, jacobian_p
 from blocks.errors import NetlistError, SimulationError
 from blocks.library.hydraulic.cavitation import cavity_volume
 from blocks.netlist.flatten import FlatCircuit, flatten
+from blocks.netlist.signal_dimensions import check_signal_dimensions
 from blocks.netlist.yaml_source import shown_key
 from blocks.result import Result, column_name_problem
 from blocks.solve.run import nominal_vector
@@ -59,6 +60,7 @@ class Circuit:
         """Analyse, order and generate the circuit; ``compile=False`` stops before numba (``vphs validate``)."""
         self.flat = flat
         self.structure: Structure = analyse(flat)
+        check_signal_dimensions(flat)
         self.generator = Generator(self.structure)
         self.outputs = self._resolve_outputs()
         self.settings: SolverSettings = read_settings(flat)

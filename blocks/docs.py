@@ -165,6 +165,10 @@ def block_reference(cls: type[Block], level: int = 2) -> str:
         lines.append(f"Prescribes the across variable of: {', '.join(f'`{p}`' for p in cls.prescribes)}.")
     if cls.rigid_link:
         lines.append(f"Rigid link: `{cls.rigid_link[1]}` moves at ratio(params) times `{cls.rigid_link[0]}`.")
+    for port, given_by in cls.signal_dimensions.items():
+        lines.append(f"`{port}` is in the dimension {' and '.join(f'`{g}`' for g in given_by)} "
+                     f"{'is' if len(given_by) == 1 else 'are'} written in; a port on its net that declares another "
+                     f"is an error.")
     if cls.presets:
         lines += ["", "| preset | values |", "|---|---|"]
         for name, values in cls.presets.items():

@@ -450,6 +450,8 @@ def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], sou
         raise source.error(path + (i,), f"{name}[{i}] = {item} is a plain number beside {name}[{first}] = "
                                         f"'{first_item}': a plain number counts in SI ({si_name(dims)}) there; "
                                         f"write its unit")
+    # the list's dimension, as its elements with a unit write it (the declared one, or a generic list's)
+    dims = written[0][2] if written else (parse_unit(unit) if unit and unit != GENERIC else FREE)
     if all(not isinstance(e, Expression) for e in elements):
-        return Entry(name, unit, tuple(elements), None, scope, source, path, bounds, raw=raw)
-    return Entry(name, unit, None, None, scope, source, path, bounds, elements, literals, raw=raw)
+        return Entry(name, unit, tuple(elements), None, scope, source, path, bounds, dims=dims, raw=raw)
+    return Entry(name, unit, None, None, scope, source, path, bounds, elements, literals, dims=dims, raw=raw)

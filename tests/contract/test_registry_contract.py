@@ -233,6 +233,12 @@ def test_declarations(name):
             f"{name}.outputs reads what it computes: {sorted(computed & set(argument_names(cls.outputs)))}"
     ports = [p.name for p in cls.ports]
     assert len(ports) == len(set(ports)), f"{name}: duplicate port names"
+    for port, given_by in cls.signal_dimensions.items():
+        # a generic signal port whose dimension generic parameters give (blocks/netlist/signal_dimensions.py)
+        assert port in ports and cls.port(port).kind.value == "signal" and cls.port(port).unit == "SI", \
+            f"{name}.signal_dimensions: '{port}' is not a generic signal port"
+        for param in given_by:
+            assert cls.param(param).unit == "SI", f"{name}.signal_dimensions: '{param}' is not a generic parameter"
 
     params = default_params(cls)
     for p in cls.params:

@@ -67,7 +67,7 @@ def test_vphs_run_interrupted_while_plotting_leaves_the_last_runs_csv_and_plot(t
     assert cli.main(["run", str(DRIVE), "-q", "--t-end", "0.2 s", "-o", str(csv), "--plot", str(png)]) == 0
     before = (csv.read_bytes(), png.read_bytes())
 
-    def interrupted(self, path, title=None):
+    def interrupted(self, path, title=None, x=None, y=None):
         raise KeyboardInterrupt
 
     monkeypatch.setattr(Result, "plot", interrupted)

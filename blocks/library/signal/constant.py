@@ -12,6 +12,7 @@ class Constant(Block):
     """
 
     ports = (signal_out("y", "the constant"),)
+    signal_dimensions = {"y": ("value",)}
     params = (Param("value", "SI", 0.0, None, None, "the output value (SI)"),)
 
     @staticmethod

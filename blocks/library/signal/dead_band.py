@@ -14,6 +14,7 @@ class DeadBand(Block):
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "input minus the dead band"))
+    signal_dimensions = {"u": ("lower", "upper"), "y": ("lower", "upper")}
     params = (
         Param("lower", "SI", None, None, None, "lower edge of the band (SI)"),
         Param("upper", "SI", None, None, None, "upper edge of the band (SI)"),

@@ -18,6 +18,7 @@ class Lookup1D(Block):
     """
 
     ports = (signal_in("u", "table input (abscissa)"), signal_out("y", "interpolated table value"))
+    signal_dimensions = {"u": ("x_table",), "y": ("y_table",)}
     params = (
         Param("x_table", "SI", None, None, None, "breakpoints, strictly increasing (SI)", array=True),
         Param("y_table", "SI", None, None, None, "table values at the breakpoints (SI)", array=True),

@@ -23,6 +23,7 @@ class Lookup2D(Block):
         signal_in("u2", "second input, along y_table"),
         signal_out("y", "interpolated table value"),
     )
+    signal_dimensions = {"u1": ("x_table",), "u2": ("y_table",), "y": ("z_table",)}
     params = (
         Param("x_table", "SI", None, None, None, "breakpoints of u1, strictly increasing (SI)", array=True),
         Param("y_table", "SI", None, None, None, "breakpoints of u2, strictly increasing (SI)", array=True),

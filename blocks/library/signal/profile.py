@@ -17,6 +17,7 @@ class Profile(Block):
     """
 
     ports = (signal_out("y", "the profile value at time t"),)
+    signal_dimensions = {"y": ("values",)}
     params = (
         Param("times", "s", None, None, None, "breakpoint times, strictly increasing", array=True),
         Param("values", "SI", None, None, None, "profile values at the breakpoint times (SI)", array=True),

@@ -18,6 +18,7 @@ class Ramp(Block):
     """
 
     ports = (signal_out("y", "the ramp signal"),)
+    signal_dimensions = {"y": ("y0", "y1")}
     params = (
         Param("t_start", "s", 0.0, None, None, "time the ramp starts"),
         Param("y0", "SI", 0.0, None, None, "value before the ramp starts (SI)"),

@@ -15,6 +15,7 @@ class Saturation(Block):
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "limited input"))
+    signal_dimensions = {"u": ("lower", "upper"), "y": ("lower", "upper")}
     params = (
         Param("lower", "SI", None, None, None, "lower limit (SI)"),
         Param("upper", "SI", None, None, None, "upper limit (SI)"),

@@ -14,6 +14,7 @@ class Step(Block):
     """
 
     ports = (signal_out("y", "the step signal"),)
+    signal_dimensions = {"y": ("y0", "y1")}
     params = (
         Param("t_step", "s", 0.0, None, None, "time of the step"),
         Param("y0", "SI", 0.0, None, None, "value before the step (SI)"),
