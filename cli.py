@@ -123,9 +123,14 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> int:
     from blocks.errors import VphsError, SimulationError
 
+    from blocks import interrupt
+
     try:
         args = build_parser().parse_args(argv)
-        return COMMANDS[args.command](args)
+        with interrupt.handling():
+            code = COMMANDS[args.command](args)
+            interrupt.check()  # an interrupt a compiled call swallowed: not a success
+            return code
     except ArgumentError as exc:
         _say(exc)
         return EXIT_BAD_INPUT
@@ -145,6 +150,9 @@ def main(argv: list[str] | None = None) -> int:
             pass
         return 0
     except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
+        if interrupt.caused_by_interrupt(exc):  # Ctrl-C inside a compiled call comes out as a SystemError
+            _say("vphs: interrupted; nothing half-written was left behind")
+            return 130
         if os.environ.get("VPHS_DEBUG"):
             raise
         if isinstance(exc, OSError) and exc.filename is not None:  # the file system refused: a full disk, a

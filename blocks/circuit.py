@@ -21,6 +21,7 @@ from pathlib import Path
 
 import numpy as np
 
+from blocks import interrupt
 from blocks.block import PortKind
 from blocks.compiler.codegen import Generator, OutputExpr
 from blocks.compiler.structure import Structure, analyse, cavitation, jacobian_pattern
@@ -79,6 +80,7 @@ class Circuit:
         announce = None if quiet else lambda: print(
             "vphs: compiling the circuit (once per structure; cached afterwards)...", file=sys.stderr, flush=True)
         self.module = build_module(self.source, cache_dir(), Path(self.flat.file).stem, on_compile=announce)
+        interrupt.check()  # a Ctrl-C during compilation that a ctypes callback printed and dropped
 
     @classmethod
     def from_file(cls, file: str | Path, quiet: bool = True, compile: bool = True) -> "Circuit":
@@ -195,6 +197,7 @@ class Circuit:
         t_eq = self.settings.t_end if t is None else float(t)
         status, x, y, J, iterations, sinks, growth_sinks = self.module.equilibrium(
             x_guess, vec.theta, t_eq, self.nominal, float(tol), int(max_iter), len(self.outputs))
+        interrupt.check()
         sinks = np.array(sinks, dtype=bool)
         rest = ~sinks  # J is block triangular: each state that acts on nothing counts by its own slope
         growth = max(float(np.max(np.linalg.eigvals(J[np.ix_(rest, rest)]).real)) if rest.any() else -np.inf,

@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from blocks import interrupt
 from blocks.solve.settings import SolverSettings
 
 
@@ -71,9 +72,11 @@ def _solve_compiled(circuit, vec, settings, t_out, atol, progress) -> Outcome:
     n_obs = len(circuit.outputs)
 
     def run(x0, times):
-        return circuit.module.integrate(x0, vec.theta, times, settings.rtol, atol, 0.0, settings.max_step,
-                                        settings.max_steps, fixed, circuit.pattern, circuit.groups,
-                                        circuit.n_groups, n_obs)
+        outcome = circuit.module.integrate(x0, vec.theta, times, settings.rtol, atol, 0.0, settings.max_step,
+                                           settings.max_steps, fixed, circuit.pattern, circuit.groups,
+                                           circuit.n_groups, n_obs)
+        interrupt.check()  # a Ctrl-C the compiled call swallowed
+        return outcome
 
     if len(t_out) < 2 * PROGRESS_CHUNKS:
         status, t_reached, x_end, X, Y, x_min, _x_max, stats, bad = run(vec.x0, t_out)
