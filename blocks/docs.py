@@ -61,6 +61,13 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
                              "`false`: the liquid's bulk modulus at every pressure (the thesis's Simulink "
                              "model), so a net drawn empty goes into a tension oil cannot carry. Top-level "
                              "netlist only; blocks' own internal nodes are not affected.",
+    ("Fluid", "air"): "Free air entrained in the oil, as a volume fraction at atmospheric pressure (`\"0.5 %\"`); "
+                      "absent (the default): the pure liquid. Each net's bulk modulus is then the mixture's, "
+                      "beta*(1 + r)/(1 + r*beta/(n*p_abs)) with r the air's volume over the liquid's at the net's "
+                      "pressure: soft near the tank's pressure, the liquid's at working pressure "
+                      "(`blocks/library/hydraulic/entrained_air.py`). Top-level netlist only.",
+    ("Fluid", "air_index"): "Polytropic index n of the entrained air: 1 isothermal (the default, slow "
+                            "changes), 1.4 adiabatic (fast ones). Top-level netlist only.",
     ("Defaults", "volume"): "Volume [m^3] of every hydraulic net that neither sets `volume:` nor has a block "
                             "storing oil on it (without it such a net is an error).",
     ("Component", "type"): "The block type: one of the names in [Blocks](#blocks).",

@@ -21,8 +21,9 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import blocks.library.hydraulic.cavitation  # noqa: F401  (in the library digest: the node law)
+import blocks.library.hydraulic.entrained_air  # noqa: F401  (in the library digest: the node law)
 from blocks.block import ACROSS, THROUGH, PortKind
-from blocks.compiler.structure import Structure, bulk_modulus_name, cavitation
+from blocks.compiler.structure import Structure, bulk_modulus_name, cavitation, entrained_air
 
 
 @dataclass
@@ -125,7 +126,10 @@ class Generator:
     def header(self) -> list[str]:
         lines = [f"# block library version {library_digest()} (any edit of a block or helper module changes "
                  f"this file's name, and so numba's cache)"]
-        if cavitation(self.st):
+        if entrained_air(self.st):
+            lines.append("from blocks.library.hydraulic.entrained_air import aerated_pressure_rate as "
+                         "_aerated_pressure_rate")
+        elif cavitation(self.st):
             lines.append("from blocks.library.hydraulic.cavitation import cavitating_pressure_rate as "
                          "_cavitating_pressure_rate")
         for cls, k in self.classes.items():
@@ -203,7 +207,11 @@ class Generator:
         for net, slot in st.net_state.items():
             j = self.net_index[net]
             beta = self.theta(bulk_modulus_name(st, net))
-            if cavitation(st):
+            if entrained_air(st):
+                lines.append(f"dx[{slot.index}] = _aerated_pressure_rate(x[{slot.index}], {beta}, V_n{j}, q_n{j}, "
+                             f"{self.theta('fluid.vapour_pressure')}, {self.theta('fluid.air')}, "
+                             f"{self.theta('fluid.air_index')}, {cavitation(st)})")
+            elif cavitation(st):
                 lines.append(f"dx[{slot.index}] = _cavitating_pressure_rate(x[{slot.index}], {beta}, V_n{j}, q_n{j}, "
                              f"{self.theta('fluid.vapour_pressure')})")
             else:

@@ -241,7 +241,8 @@ def _theta_layout(st: Structure) -> None:
     """Every parameter-table entry the equations read gets a slice of theta."""
     entries = st.circuit.parameters.entries
     values = st.circuit.parameters.evaluate()  # also checks every default once
-    names = ["fluid.beta"] + (["fluid.vapour_pressure"] if cavitation(st) else [])
+    names = ["fluid.beta"] + (["fluid.vapour_pressure"] if cavitation(st) or entrained_air(st) else [])
+    names += ["fluid.air", "fluid.air_index"] if entrained_air(st) else []
     for name, comp in st.circuit.components.items():
         names += [f"{name}.{p.name}" for p in comp.cls.params]
     for net in st.net_state:
@@ -258,6 +259,11 @@ def _theta_layout(st: Structure) -> None:
 def cavitation(st: Structure) -> bool:
     """Whether the nets' pressure equation holds a vapour cavity (blocks.library.hydraulic.cavitation)."""
     return bool(st.circuit.netlist.fluid.cavitation)
+
+
+def entrained_air(st: Structure) -> bool:
+    """Whether the nets' pressure equation has free air in the oil (blocks.library.hydraulic.entrained_air)."""
+    return st.circuit.netlist.fluid.air is not None
 
 
 def bulk_modulus_name(st: Structure, net: str) -> str:

@@ -33,7 +33,11 @@ FLUID_BOUNDS = {
     "nu": Param("nu", "m^2/s", None, 1e-8, 1e-2, "kinematic viscosity"),
     "beta": Param("beta", "Pa", None, 1e6, 1e11, "bulk modulus"),
     "vapour_pressure": Param("vapour_pressure", "Pa", None, -1.01325e5, 1e6, "vapour pressure (gauge)"),
+    "air": Param("air", "1", None, 0.0, 0.5, "entrained air, volume fraction at atmospheric pressure"),
+    "air_index": Param("air_index", "1", None, 1.0, 1.4, "polytropic index of the entrained air"),
 }
+TOP_LEVEL_FLUID = (("vapour_pressure", "the vapour pressure"), ("cavitation", "fluid cavitation"),
+                   ("air", "the entrained air"), ("air_index", "the entrained air's index"))
 NET_BOUNDS = {
     "volume": Param("volume", "m^3", None, 0.0, 1e3, "volume of a hydraulic net", positive=True),
     "bulk_modulus": Param("bulk_modulus", "Pa", None, 0.0, 1e12, "bulk modulus of a hydraulic net", positive=True),
@@ -214,13 +218,13 @@ class _Builder:
         The top-level file defines fluid.*; a subsystem file that sets fluid properties itself gets its own
         (``left.fluid.beta``) for its components and nets, and inherits the others from the file using it."""
         if parent is None:
-            keys = list(FLUID_BOUNDS)
+            keys = [k for k in FLUID_BOUNDS if getattr(netlist.fluid, k) is not None]
         else:
             keys = [k for k in netlist.fluid.model_fields_set if k in FLUID_BOUNDS]
-            for key, what in (("vapour_pressure", "the vapour pressure"), ("cavitation", "fluid cavitation")):
+            for key, what in TOP_LEVEL_FLUID:
                 if key in netlist.fluid.model_fields_set:
                     raise located.error(("fluid", key), f"{what} is set by the top-level netlist only (it "
-                                        f"decides what counts as cavitation everywhere)")
+                                        f"decides the law of every net's pressure)")
         names = dict(parent or {})
         for key in keys:
             name = f"{prefix}fluid.{key}"

@@ -65,6 +65,9 @@ class Fluid(Strict):
     beta: Value = "8e8 Pa"
     vapour_pressure: Value = Field("-1 bar", description="gauge; a node below it is reported as cavitating")
     cavitation: bool = Field(True, description="a net drawn below the vapour pressure holds a vapour cavity")
+    air: Value | None = Field(None, description="free air entrained in the oil, volume fraction at atmospheric "
+                                                "pressure (absent: the pure liquid)")
+    air_index: Value = Field(1.0, description="polytropic index of the entrained air: 1 isothermal, 1.4 adiabatic")
 
 
 class Defaults(Strict):

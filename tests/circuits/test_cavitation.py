@@ -109,12 +109,15 @@ def _write(path, doc, which):
     return path
 
 
-def test_a_subsystem_cannot_set_cavitation_of_its_own(tmp_path):
-    part = {"fluid": {"cavitation": False}, "ports": {"A": "A"}, "components": {"tank": {"type": "tank"}},
+@pytest.mark.parametrize("key, value, what", [("cavitation", False, "fluid cavitation"),
+                                             ("air", "1 %", "the entrained air"),
+                                             ("air_index", 1.4, "the entrained air's index")])
+def test_a_subsystem_cannot_set_cavitation_of_its_own(tmp_path, key, value, what):
+    part = {"fluid": {key: value}, "ports": {"A": "A"}, "components": {"tank": {"type": "tank"}},
             "nets": {"A": ["tank.port"]}}
     (tmp_path / "part.yaml").write_text(yaml.safe_dump(part))
     top = {"subsystems": {"left": {"netlist": "part.yaml"}}, "components": {},
            "nets": {"A": ["left.A"]}}
     (tmp_path / "top.yaml").write_text(yaml.safe_dump(top))
-    with pytest.raises(VphsError, match=r"part\.yaml:\d+:\d+: fluid cavitation is set by the top-level netlist only"):
+    with pytest.raises(VphsError, match=rf"part\.yaml:\d+:\d+: {what} is set by the top-level netlist only"):
         Circuit.from_file(tmp_path / "top.yaml", compile=False)

@@ -26,8 +26,10 @@ Without it (``cavitation: false``, the thesis's Simulink model), the pressure of
 as far as the liquid's bulk modulus takes it (hundreds of bar below zero), a tension oil cannot carry,
 and the run is only warned of.
 
-What it leaves out: dissolved air coming out of solution (above p_vap), and the block-internal pressure
-nodes (the motion-control valve's ``pt``), which keep their own equation.
+Free air entrained in the oil (``fluid: {air: ...}``) is the other law of a net's compliance
+(blocks.library.hydraulic.entrained_air, which takes this one's cavity below p_vap). What both leave out:
+dissolved air coming out of solution, and the block-internal pressure nodes (the motion-control valve's
+``pt``), which keep their own equation.
 """
 
 from numba import njit
