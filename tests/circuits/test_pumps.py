@@ -168,3 +168,119 @@ def test_displacement_limiter_makes_a_smaller_fixed_pump():
         "lagging displacement": fill(r.t, D_MAX * W_C * (0.1 + 0.9 * np.exp(-r.t / 0.03)), g),
     })
     assert np.max(np.abs(r["eps"] - 0.1)) <= solver_tol(1.0, S_NOM)
+
+
+# ---------------------------------------------------------------- the example: netlists/components/power_unit.yaml
+POWER_UNIT = Path(__file__).resolve().parents[2] / "netlists" / "components" / "power_unit.yaml"
+
+
+@lru_cache(maxsize=None)
+def power_unit():
+    c = Circuit.from_file(POWER_UNIT)
+    return c.simulate(), c.vectors().values
+
+
+def turbulent(dp, area, v):
+    """The regularised orifice law, written out."""
+    return v["valve.Cd"] * area * math.sqrt(2 / v["relief.rho"]) * dp / (dp * dp + v["valve.dp_t"] ** 2) ** 0.25
+
+
+def drop(q, area, v):
+    """The pressure drop that passes q through an edge of the given area (the law above inverted)."""
+    return brentq(lambda dp: turbulent(dp, area, v) - q, 0.0, 1e9, xtol=1e-6, rtol=1e-15)
+
+
+def relief_leak(p, v):
+    u = min(max((p - v["relief.p_set"]) / (v["relief.p_open"] - v["relief.p_set"]), 0.0), 1.0)
+    area = v["relief.A_leak"] + (v["relief.A_max"] - v["relief.A_leak"]) * (3 * u**2 - 2 * u**3)
+    return v["relief.Cd"] * area * math.sqrt(2 / v["relief.rho"]) * p / (p * p + v["relief.dp_t"] ** 2) ** 0.25
+
+
+def kloss_of(w, v):
+    s = (v["motor.w_sync"] - w) / v["motor.w_sync"]
+    return 2 * v["motor.T_b"] * s * v["motor.s_b"] / (s * s + v["motor.s_b"] ** 2)
+
+
+def motor_speed(torque, v):
+    """The speed on Kloss's stable branch at which the motor gives ``torque``."""
+    w_sync, s_b = v["motor.w_sync"], v["motor.s_b"]
+    return brentq(lambda w: kloss_of(w, v) - torque, (1 - s_b) * w_sync, w_sync, xtol=1e-12, rtol=1e-15)
+
+
+def moving(v, speed):
+    """Steady motion at rod speed ``speed`` (> 0 extends) with the spool at full stroke and the pump at full
+    displacement: the meter-in and meter-out edges' drops from the chamber flows, the rod's force balance
+    (friction Fc + b*|speed|, against the motion) and the pump's flow D_max*w - G_leak*p_Q, at the speed w
+    where Kloss's torque equals D_max*p_Q/eta_hm; returns (residual of the pump's flow, pP, w)."""
+    A_A, A_B, area = v["cyl.A_A"], v["cyl.A_B"], v["valve.A_max"]
+    f = math.copysign(v["friction.Fc"], speed) + v["friction.b"] * speed
+    if speed > 0:  # P -> A, B -> T: pA*A_A = pB*A_B + f
+        p_b = drop(A_B * speed, area, v)
+        p_p = (p_b * A_B + f) / A_A + drop(A_A * speed, area, v)
+        q = A_A * speed
+    else:  # P -> B, A -> T: pB*A_B = pA*A_A - f
+        p_a = drop(-A_A * speed, area, v)
+        p_p = (p_a * A_A - f) / A_B + drop(-A_B * speed, area, v)
+        q = -A_B * speed
+    q += relief_leak(p_p, v)
+    p_q = p_p + v["q_pump.R"] * q
+    w = motor_speed(v["pump.D_max"] * p_q / v["pump.eta_hm"], v)
+    return v["pump.D_max"] * w - v["pump.G_leak"] * p_q - q, p_p, w
+
+
+def dead_headed(v):
+    """The valve closed (or the piston on its stop): the pump delivers only its leakage and the relief
+    valve's, at the pressure where the compensator's target displacement does that; returns (p, eps, w)."""
+    p_c, dp_c, D = v["pump.p_c"], v["pump.dp_c"], v["pump.D_max"]
+
+    def eps(p):
+        u = min(max((p - p_c) / dp_c, 0.0), 1.0)
+        return 1 - (3 * u**2 - 2 * u**3)
+
+    def speed(p):
+        return motor_speed(eps(p) * D * p / v["pump.eta_hm"], v)
+
+    p = brentq(lambda p: eps(p) * D * speed(p) - v["pump.G_leak"] * p - relief_leak(p, v), p_c, p_c + dp_c,
+               xtol=1e-6, rtol=1e-15)
+    return p, eps(p), speed(p)
+
+
+def at(r, t):
+    return int(np.argmin(np.abs(r.t - t)))
+
+
+def test_power_unit_example_runs_at_its_closed_form_operating_points():
+    """netlists/components/power_unit.yaml, each phase's steady state solved here from the netlist's values:
+    extending and retracting at full pump flow (the cylinder's speed from the pump's flow and the motor's
+    slip), and dead-headed (holding, and on the end stop) inside the compensator band.
+    Tolerances: the moving phases have settled to round-off (measured 1e-11 relative), compared to 1e-8:
+    eta_hm ignored moves them by 9e-4 or more, the leakage ignored by 2 %, even the flow sensor's
+    68 Pa drop by 3e-7. Dead-headed, the pressure and speed to 1e-6 (measured 4e-7 and 7e-8; the
+    leakage ignored is 4e-3 off, eta_hm ignored 1e-4 on the speed), the displacement (0.047, a state of
+    nominal 1 at atol = rtol = 1e-6: its absolute error is ~1e-6, 2e-5 of it) to 1e-4 (the relief valve's
+    closed leakage ignored is 4e-3 off)."""
+    r, v = power_unit()
+    assert not r.warnings
+    for t, sign in ((1.99, 1.0), (4.0, -1.0)):
+        k = at(r, t)
+        speed = brentq(lambda s: moving(v, s)[0], 0.01 * sign, 0.5 * sign, xtol=1e-12, rtol=1e-15)
+        _, p_p, w = moving(v, speed)
+        assert r["v"][k] == pytest.approx(speed, rel=1e-8), t
+        assert r["pP"][k] == pytest.approx(p_p, rel=1e-8), t
+        assert r["speed"][k] == pytest.approx(w, rel=1e-8), t
+        assert r["eps"][k] == pytest.approx(1.0, abs=1e-6)  # below p_c: full stroke
+        assert r["pP"][k] < v["pump.p_c"]
+        chamber = v["cyl.A_A"] * speed if sign > 0 else -v["cyl.A_B"] * speed
+        assert r["q_pump"][k] == pytest.approx(chamber + relief_leak(p_p, v), rel=1e-8), t
+    p, eps, w = dead_headed(v)
+    for t in (2.79, 5.0):  # the valve centred; the piston held on its end stop
+        k = at(r, t)
+        assert r["pP"][k] == pytest.approx(p, rel=1e-6), t
+        assert r["eps"][k] == pytest.approx(eps, rel=1e-4), t
+        assert r["speed"][k] == pytest.approx(w, rel=1e-6), t
+    assert v["pump.p_c"] < p < v["pump.p_c"] + v["pump.dp_c"]
+    # the compensator's lag lets the pressure overshoot when the pump is dead-headed at full stroke; the
+    # relief valve, set above it, catches that
+    peak = r["pP"].max()
+    assert v["relief.p_set"] < peak < v["relief.p_open"]
+    assert np.all(r["speed"] < v["motor.w_sync"]) and r["x"].min() < 0.0  # reached the end stop
