@@ -73,26 +73,31 @@ RELIEF = dict(p_set=150e5, p_open=160e5, A_max=20e-6, A_leak=1e-9, Cd=0.7, dp_t=
 G_B = 1e-11
 
 
-def kloss(w):
-    s = (W_SYNC - w) / W_SYNC
-    return 2 * T_B / (s / S_B + S_B / s)
+def kloss(w, w_sync=W_SYNC, T_b=T_B, s_b=S_B):
+    """Kloss's formula as the data books write it, and its limit 0 at synchronous speed."""
+    s = (w_sync - w) / w_sync
+    return 2 * T_b / (s / s_b + s_b / s) if s != 0.0 else 0.0
 
 
-def relief_flow(p, p_set=150e5, p_open=160e5, A_max=20e-6, A_leak=1e-9, Cd=0.7, dp_t=1e5):
+def regularised_orifice(dp, area, cd=0.7, dp_t=1e5, rho=RHO):
+    """The blocks' turbulent law written out: Cd*A*sqrt(2/rho)*dp/(dp^2 + dp_t^2)^(1/4)."""
+    return cd * area * math.sqrt(2 / rho) * dp / (dp * dp + dp_t * dp_t) ** 0.25
+
+
+def relief_flow(p, p_set, p_open, A_max, A_leak, Cd, dp_t, rho=RHO):
     """The relief valve's law written out: a cubic opening from p_set to p_open, the regularised orifice."""
     u = min(max((p - p_set) / (p_open - p_set), 0.0), 1.0)
-    area = A_leak + (A_max - A_leak) * (3 * u**2 - 2 * u**3)
-    return Cd * area * math.sqrt(2 / RHO) * p / (p * p + dp_t * dp_t) ** 0.25
+    return regularised_orifice(p, A_leak + (A_max - A_leak) * (3 * u**2 - 2 * u**3), Cd, dp_t, rho)
 
 
 def operating_point(eta_hm=ETA_HM, leak=G_LEAK, displacement=D):
     """(w, p) where the pump's flow D*w - G_leak*p leaves through the valve and the load orifice, and the
     motor's torque equals the pump's D*p/eta_hm (tanh(w/w_w) = 1 at these speeds)."""
     def pressure(w):
-        return brentq(lambda p: displacement * w - leak * p - G_B * p - relief_flow(p), 0.0, 400e5,
+        return brentq(lambda p: displacement * w - leak * p - G_B * p - relief_flow(p, **RELIEF), 0.0, 400e5,
                       xtol=1e-9, rtol=1e-15)
 
-    w = brentq(lambda w: kloss(w) - displacement * pressure(w) / eta_hm, (1 - S_B) * W_SYNC, W_SYNC * (1 - 1e-12),
+    w = brentq(lambda w: kloss(w) - displacement * pressure(w) / eta_hm, (1 - S_B) * W_SYNC, W_SYNC,
                xtol=1e-13, rtol=1e-15)
     return w, pressure(w)
 
@@ -180,31 +185,22 @@ def power_unit():
     return c.simulate(), c.vectors().values
 
 
-def turbulent(dp, area, v):
-    """The regularised orifice law, written out."""
-    return v["valve.Cd"] * area * math.sqrt(2 / v["relief.rho"]) * dp / (dp * dp + v["valve.dp_t"] ** 2) ** 0.25
-
-
 def drop(q, area, v):
-    """The pressure drop that passes q through an edge of the given area (the law above inverted)."""
-    return brentq(lambda dp: turbulent(dp, area, v) - q, 0.0, 1e9, xtol=1e-6, rtol=1e-15)
+    """The pressure drop that passes q through a valve edge of the given area (the orifice law inverted)."""
+    return brentq(lambda dp: regularised_orifice(dp, area, v["valve.Cd"], v["valve.dp_t"], v["relief.rho"]) - q,
+                  0.0, 1e9, xtol=1e-6, rtol=1e-15)
 
 
 def relief_leak(p, v):
-    u = min(max((p - v["relief.p_set"]) / (v["relief.p_open"] - v["relief.p_set"]), 0.0), 1.0)
-    area = v["relief.A_leak"] + (v["relief.A_max"] - v["relief.A_leak"]) * (3 * u**2 - 2 * u**3)
-    return v["relief.Cd"] * area * math.sqrt(2 / v["relief.rho"]) * p / (p * p + v["relief.dp_t"] ** 2) ** 0.25
-
-
-def kloss_of(w, v):
-    s = (v["motor.w_sync"] - w) / v["motor.w_sync"]
-    return 2 * v["motor.T_b"] * s * v["motor.s_b"] / (s * s + v["motor.s_b"] ** 2)
+    names = ("p_set", "p_open", "A_max", "A_leak", "Cd", "dp_t", "rho")
+    return relief_flow(p, *(v[f"relief.{name}"] for name in names))
 
 
 def motor_speed(torque, v):
     """The speed on Kloss's stable branch at which the motor gives ``torque``."""
     w_sync, s_b = v["motor.w_sync"], v["motor.s_b"]
-    return brentq(lambda w: kloss_of(w, v) - torque, (1 - s_b) * w_sync, w_sync, xtol=1e-12, rtol=1e-15)
+    return brentq(lambda w: kloss(w, w_sync, v["motor.T_b"], s_b) - torque, (1 - s_b) * w_sync, w_sync,
+                  xtol=1e-12, rtol=1e-15)
 
 
 def moving(v, speed):

@@ -50,7 +50,8 @@ class VariablePump(Block):
         Param("eps_max", "1", 1.0, 0.0, 1.0, "displacement limiter: the largest displacement fraction"),
         Param("G_leak", "m^3/(s*Pa)", 0.0, 0.0, 1e-6, "internal leakage conductance (p -> s)"),
         Param("J_p", "kg*m^2", None, 0.0, 1e6, "inertia of the rotating group, added to the shaft net"),
-        Param("eta_hm", "1", 1.0, 0.5, 1.0, "hydro-mechanical efficiency: shaft power e*D_max*dp*w/eta_hm when pumping"),
+        Param("eta_hm", "1", 1.0, 0.5, 1.0,
+              "hydro-mechanical efficiency: shaft power e*D_max*dp*w/eta_hm when pumping"),
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
     )
     states = (State("eps", "1", 1.0, 1.0, "displacement fraction of the stroking mechanism (1 = full stroke)"),)
