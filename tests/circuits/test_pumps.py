@@ -1,10 +1,12 @@
 """The pumps and the induction motor in small circuits (netlist tests/circuits/netlists/pumps.yaml) against
 closed-form solutions computed here: a pump filling a volume that drains through a laminar orifice (an
 exact first-order response), a motor-pump set finding its operating point on Kloss's curve against a relief
-valve, and a pressure-compensated pump dead-headed against a small orifice.
+valve, and a pressure-compensated pump dead-headed against a small orifice; then the example
+netlists/components/power_unit.yaml, phase by phase.
 
 Tolerances as in test_analytic.py: ``solver_tol`` is 100 times the solver's local tolerance (the netlist
-sets rtol = atol = 1e-9); every comparison also shows that a plausible wrong model misses by 1000 times more.
+sets rtol = atol = 1e-9); each ``assert_matches`` also shows that plausible wrong models miss by 1000 times
+more. The example's own tolerances are in its test's docstring.
 """
 
 from __future__ import annotations
