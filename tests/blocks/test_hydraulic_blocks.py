@@ -23,10 +23,12 @@ from blocks.library.hydraulic.laminar_orifice import LaminarOrifice
 from blocks.library.hydraulic.orifice import Orifice
 from blocks.library.hydraulic.pressure_sensor import PressureSensor
 from blocks.library.hydraulic.pressure_source import PressureSource
+from blocks.library.hydraulic.pump import Pump
 from blocks.library.hydraulic.relief_valve import ReliefValve
 from blocks.library.hydraulic.tank import Tank
 from blocks.library.hydraulic.valve_4_3 import Valve43
 from blocks.library.hydraulic.variable_orifice import VariableOrifice
+from blocks.library.hydraulic.variable_pump import VariablePump
 from blocks.library.hydraulic.volume import Volume
 from blocks.registry import get
 
@@ -53,7 +55,8 @@ def sqrt_law(dp, area, cd=0.7, rho=RHO):
         ("flow_source_signal", FlowSourceSignal), ("volume", Volume), ("variable_orifice", VariableOrifice),
         ("laminar_orifice", LaminarOrifice), ("check_valve", CheckValve), ("relief_valve", ReliefValve),
         ("pressure_sensor", PressureSensor), ("flow_sensor", FlowSensor), ("hydraulic_motor", HydraulicMotor),
-        ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator),
+        ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator), ("pump", Pump),
+        ("variable_pump", VariablePump),
     ],
 )
 def test_hydraulic_block_registered(type_name, cls):
@@ -245,6 +248,134 @@ def test_motor_friction_is_the_lost_fraction_of_hydraulic_torque_opposing_motion
     assert d0["tau_shaft"] == pytest.approx(tau_h)
 
 
+# ---------------------------------------------------------------- pumps
+PUMP = dict(D=28e-6 / (2 * math.pi), J_p=0.002, eta_hm=1.0, w_w=0.1)  # 28 cm^3/rev
+
+
+def pump(ps, pp, w, G=0.0, **over):
+    return named(Pump, Pump.derivatives(s=ps, p=pp, shaft=w, G_leak=G, **{**PUMP, **over}))
+
+
+def test_pump_flows_and_torque():
+    """q = D*w - G_leak*(p_p - p_s) from s to p; the oil brakes the shaft with D*(p_p - p_s)."""
+    ps, pp, w, G = 0.5 * BAR, 180 * BAR, 150.0, 2e-12
+    d = pump(ps, pp, w, G)
+    q = PUMP["D"] * w - G * (pp - ps)
+    assert q == pytest.approx(28e-6 * 150.0 / (2 * math.pi) - 2e-12 * 179.5e5, rel=1e-12)  # 37.4 l/min
+    assert d["q_p"] == pytest.approx(q, rel=1e-12) and d["q_s"] == pytest.approx(-q, rel=1e-12)
+    assert d["q_s"] + d["q_p"] == 0.0
+    assert d["tau_shaft"] == pytest.approx(-PUMP["D"] * (pp - ps), rel=1e-12)
+    assert d["tau_shaft"] < 0.0  # pumping against pressure brakes the shaft
+    assert d["J_shaft"] == PUMP["J_p"]
+    # no pressure rise: the displaced flow and no torque; standing still: only the leakage, backwards
+    assert pump(0.0, 0.0, w) == {"q_s": pytest.approx(-PUMP["D"] * w), "q_p": pytest.approx(PUMP["D"] * w),
+                                 "tau_shaft": 0.0, "J_shaft": PUMP["J_p"]}
+    assert pump(ps, pp, 0.0, G)["q_p"] == pytest.approx(-G * (pp - ps), rel=1e-12)
+
+
+@settings(max_examples=200, deadline=None)
+@given(dp=st.floats(1e3, 4e7), w=st.floats(5.0, 300.0), G=st.floats(0, 1e-10), eta=st.floats(0.5, 1.0),
+       backwards=st.booleans())
+def test_pump_shaft_power_is_hydraulic_power_over_eta_hm(dp, w, G, eta, backwards):
+    """Pumping (dp*w > 0, |w| >= 50 w_w so tanh = 1): shaft power in -tau*w = D*dp*w/eta_hm, and the oil gets
+    q_p*p_p + q_s*p_s = D*dp*w - G_leak*dp^2. Run backwards with the pressure on s, it pumps s <- p alike."""
+    ps, pp = (dp, 0.0) if backwards else (0.0, dp)
+    w = -w if backwards else w
+    d = pump(ps, pp, w, G, eta_hm=eta)
+    shaft_in = -d["tau_shaft"] * w
+    hydraulic_out = d["q_p"] * pp + d["q_s"] * ps
+    ideal = PUMP["D"] * dp * abs(w)
+    assert shaft_in == pytest.approx(ideal / eta, rel=1e-12)
+    assert hydraulic_out == pytest.approx(ideal - G * dp * dp, rel=1e-9, abs=1e-12 * ideal)
+    assert shaft_in >= hydraulic_out * (1 - 1e-12)  # up to round-off when lossless
+
+
+def test_pump_motoring_when_the_outlet_pressure_drives_it_backwards():
+    """dp > 0, w < 0: oil flows p -> s and the shaft is driven (tau*w > 0); the friction (1/eta_hm - 1)|tau_h|
+    still opposes w, so the shaft gets (2 - 1/eta_hm) of the hydraulic power D*dp*|w|."""
+    dp, w, eta = 150 * BAR, -80.0, 0.9
+    d = pump(0.0, dp, w, eta_hm=eta)
+    assert d["q_p"] == pytest.approx(PUMP["D"] * w) and d["q_p"] < 0.0
+    assert d["tau_shaft"] * w == pytest.approx((2.0 - 1.0 / eta) * PUMP["D"] * dp * abs(w), rel=1e-12)
+    assert d["tau_shaft"] * w < PUMP["D"] * dp * abs(w)
+    # at eta_hm = 0.5 (the lower bound) the friction takes all of it
+    assert pump(0.0, dp, w, eta_hm=0.5)["tau_shaft"] == pytest.approx(0.0, abs=1e-12 * PUMP["D"] * dp)
+    assert Pump.param("eta_hm").check(0.49) is not None
+
+
+def test_pump_friction_smooth_through_standstill():
+    dp, eta = 100 * BAR, 0.8
+    tau_h = -PUMP["D"] * dp
+    for w in (-1e-3, 0.0, 1e-3, 0.05):
+        expected = tau_h - (1 / eta - 1) * abs(tau_h) * math.tanh(w / PUMP["w_w"])
+        assert pump(0.0, dp, w, eta_hm=eta)["tau_shaft"] == pytest.approx(expected, rel=1e-12)
+    assert pump(0.0, dp, 0.0, eta_hm=eta)["tau_shaft"] == pytest.approx(tau_h, rel=1e-12)
+
+
+VPUMP = dict(D_max=45e-6 / (2 * math.pi), p_c=200 * BAR, dp_c=4 * BAR, tau_c=0.02, eps_max=1.0, J_p=0.004,
+             eta_hm=1.0, w_w=0.1)
+
+
+def vpump(ps, pp, w, eps, G=0.0, **over):
+    return named(VariablePump, VariablePump.derivatives(s=ps, p=pp, shaft=w, eps=eps, G_leak=G, **{**VPUMP, **over}))
+
+
+def cubic_step(u):
+    """The compensator's C1 ramp written out: 0 below 0, 3u^2 - 2u^3 on [0, 1], 1 above."""
+    u = min(max(u, 0.0), 1.0)
+    return 3 * u**2 - 2 * u**3
+
+
+@pytest.mark.parametrize("eps_max", [1.0, 0.6])
+def test_variable_pump_compensator_target(eps_max):
+    """d(eps)/dt = (eps_target - eps)/tau_c: full stroke (eps_max) below p_c, eps_max/2 mid-band,
+    eps_max*(1 - 0.15625) a quarter into the band, zero from p_c + dp_c up."""
+    p_c, dp_c, tau_c, eps = VPUMP["p_c"], VPUMP["dp_c"], VPUMP["tau_c"], 0.3
+    cases = [(0.0, eps_max), (100 * BAR, eps_max), (p_c, eps_max), (p_c + dp_c / 4, eps_max * (1 - 0.15625)),
+             (p_c + dp_c / 2, eps_max / 2), (p_c + dp_c, 0.0), (300 * BAR, 0.0)]
+    for dp, target in cases:
+        assert target == pytest.approx(eps_max * (1 - cubic_step((dp - p_c) / dp_c)), rel=1e-12)
+        d = vpump(2 * BAR, 2 * BAR + dp, 150.0, eps, eps_max=eps_max)  # the setting is on p_p - p_s
+        assert d["der_eps"] == pytest.approx((target - eps) / tau_c, rel=1e-12, abs=1e-12)
+
+
+def test_variable_pump_flow_and_torque_scale_with_the_displacement():
+    ps, pp, w, eps, G = 0.0, 150 * BAR, 150.0, 0.4, 1e-12
+    d = vpump(ps, pp, w, eps, G)
+    D = eps * VPUMP["D_max"]
+    assert d["q_p"] == pytest.approx(D * w - G * pp, rel=1e-12) and d["q_s"] == -d["q_p"]
+    assert d["tau_shaft"] == pytest.approx(-D * pp, rel=1e-12)
+    assert d["J_shaft"] == VPUMP["J_p"]
+    (out,) = VariablePump.outputs(eps=eps, eps_max=1.0)
+    assert out == eps
+    # lossy and pumping: shaft power = hydraulic power / eta_hm
+    lossy = vpump(ps, pp, w, eps, eta_hm=0.85)
+    assert -lossy["tau_shaft"] * w == pytest.approx(D * pp * w / 0.85, rel=1e-12)
+
+
+def test_variable_pump_displacement_clipped_to_its_range():
+    """The state beyond [0, eps_max] (a start above eps_max, a solver's overshoot) displaces eps_max or 0."""
+    w, pp = 150.0, 100 * BAR
+    assert VariablePump.outputs(eps=1.0, eps_max=0.6) == (0.6,)
+    assert VariablePump.outputs(eps=-0.01, eps_max=0.6) == (0.0,)
+    high = vpump(0.0, pp, w, 1.0, eps_max=0.6)
+    assert high["q_p"] == pytest.approx(0.6 * VPUMP["D_max"] * w, rel=1e-12)
+    assert high["der_eps"] == pytest.approx((0.6 - 1.0) / VPUMP["tau_c"], rel=1e-12)  # the state still lags back
+    low = vpump(0.0, pp, w, -0.01, G=1e-12)
+    assert low["q_p"] == pytest.approx(-1e-12 * pp, rel=1e-12) and low["tau_shaft"] == 0.0
+    assert VariablePump.check_values({"initial.eps": 0.5}) is None
+    for start in (-0.1, 1.2):
+        assert "outside [0, 1]" in VariablePump.check_values({"initial.eps": start})
+
+
+@settings(max_examples=200, deadline=None)
+@given(dp=st.floats(-1e6, 4e7), eps_max=st.floats(0.0, 1.0))
+def test_variable_pump_lag_points_into_its_range(dp, eps_max):
+    """At eps = 0 the state cannot fall, at eps = eps_max it cannot rise: started in range, it stays."""
+    assert vpump(0.0, dp, 100.0, 0.0, eps_max=eps_max)["der_eps"] >= 0.0
+    assert vpump(0.0, dp, 100.0, eps_max, eps_max=eps_max)["der_eps"] <= 0.0
+
+
 # ---------------------------------------------------------------- 4/3 valve
 VALVE = dict(A_max=125e-6, x_db=0.02, A_leak=0.0, A_float=0.0, A_bypass=0.0, x_c=0.05, Cd=0.7, dp_t=1e5, rho=RHO)
 PS, PT, PA, PB = 207 * BAR, 0.0, 90 * BAR, 40 * BAR
@@ -397,6 +528,8 @@ NUMBA_CASES = {
     HydraulicMotor: dict(a=1e7, b=1e6, shaft=10.0, G_leak=1e-12, **MOTOR),
     Valve43: dict(P=PS, T=PT, A=PA, B=PB, x=0.3, **{**VALVE, "A_leak": 1e-9}),
     Cylinder: dict(A=1e7, B=2e6, rod=0.1, x=0.5002, **CYL),
+    Pump: dict(s=1e5, p=1.5e7, shaft=150.0, G_leak=1e-12, **PUMP),
+    VariablePump: dict(s=1e5, p=2.02e7, shaft=150.0, eps=0.7, G_leak=1e-12, **VPUMP),
 }
 
 

@@ -14,6 +14,7 @@ from blocks.block import PortKind, argument_names
 from blocks.library.mechanical.angle_sensor import AngleSensor
 from blocks.library.mechanical.force_source import ForceSource
 from blocks.library.mechanical.gear import Gear
+from blocks.library.mechanical.induction_motor import InductionMotor
 from blocks.library.mechanical.inertia import Inertia
 from blocks.library.mechanical.mass import Mass
 from blocks.library.mechanical.position_sensor import PositionSensor
@@ -41,7 +42,7 @@ ALL = {
     "rot_friction": RotFriction, "trans_friction": TransFriction, "gear": Gear, "rack_pinion": RackPinion,
     "torque_source": TorqueSource, "force_source": ForceSource, "speed_source": SpeedSource,
     "velocity_source": VelocitySource, "speed_sensor": SpeedSensor, "velocity_sensor": VelocitySensor,
-    "angle_sensor": AngleSensor, "position_sensor": PositionSensor,
+    "angle_sensor": AngleSensor, "position_sensor": PositionSensor, "induction_motor": InductionMotor,
 }
 
 
@@ -168,6 +169,52 @@ def test_angle_and_position_sensors_integrate():
     assert theta == pytest.approx(0.3 + 2.0, rel=1e-12)
 
 
+# ---------------------------------------------------------------- prime mover
+KLOSS = dict(w_sync=2 * math.pi * 1500 / 60, T_b=300.0, s_b=0.12, J_r=0.08)  # a 4-pole 50 Hz motor
+
+
+def kloss_torque(w, w_sync=KLOSS["w_sync"], T_b=KLOSS["T_b"], s_b=KLOSS["s_b"]):
+    """Kloss's formula as the data books write it, tau = 2*T_b/(s/s_b + s_b/s) (s != 0)."""
+    s = (w_sync - w) / w_sync
+    return 2 * T_b / (s / s_b + s_b / s)
+
+
+def motor_torque(w, **over):
+    return named(InductionMotor, InductionMotor.derivatives(shaft=w, **{**KLOSS, **over}))["tau_shaft"]
+
+
+def test_induction_motor_kloss_points():
+    w_sync, T_b, s_b = KLOSS["w_sync"], KLOSS["T_b"], KLOSS["s_b"]
+    assert w_sync == pytest.approx(157.08, abs=5e-3)
+    assert motor_torque((1 - s_b) * w_sync) == pytest.approx(T_b, rel=1e-12)  # breakdown
+    assert motor_torque(w_sync) == 0.0  # synchronous: no torque
+    assert motor_torque(0.0) == pytest.approx(2 * T_b * s_b / (1 + s_b**2), rel=1e-12)  # starting torque
+    assert named(InductionMotor, InductionMotor.derivatives(shaft=10.0, **KLOSS))["J_shaft"] == KLOSS["J_r"]
+    for w in (-50.0, 0.0, 60.0, 130.0, 150.0, 156.0, 157.0, 158.0, 170.0, 400.0):
+        assert motor_torque(w) == pytest.approx(kloss_torque(w), rel=1e-12)
+
+
+def test_induction_motor_generates_above_synchronous_speed():
+    """s < 0: negative torque, the mirror image of the motoring curve: -T_b at s = -s_b."""
+    w_sync, s_b = KLOSS["w_sync"], KLOSS["s_b"]
+    assert motor_torque((1 + s_b) * w_sync) == pytest.approx(-KLOSS["T_b"], rel=1e-12)
+    for s in (1e-6, 0.01, 0.05, 0.12, 0.5, 1.0):
+        above, below = motor_torque((1 + s) * w_sync), motor_torque((1 - s) * w_sync)
+        assert above < 0.0 < below and above == pytest.approx(-below, rel=1e-12)
+
+
+def test_induction_motor_breakdown_is_the_largest_torque_and_smooth_at_synchronous_speed():
+    w_sync, T_b, s_b = KLOSS["w_sync"], KLOSS["T_b"], KLOSS["s_b"]
+    slips = [k / 1000 for k in range(-1500, 1501)]
+    torques = [motor_torque((1 - s) * w_sync) for s in slips]
+    assert max(torques) == pytest.approx(T_b, rel=1e-12) and min(torques) == pytest.approx(-T_b, rel=1e-12)
+    assert slips[torques.index(max(torques))] == pytest.approx(s_b)
+    # through s = 0: the slope 2*T_b/s_b per unit slip, i.e. -2*T_b/(s_b*w_sync) per rad/s, no jump
+    h = 1e-6
+    slope = (motor_torque(w_sync + h) - motor_torque(w_sync - h)) / (2 * h)
+    assert slope == pytest.approx(-2 * T_b / (s_b * w_sync), rel=1e-6)
+
+
 # ---------------------------------------------------------------- numba: compiled == pure Python
 NUMBA_CASES = {
     Inertia: dict(J=0.1), Mass: dict(m=100.0, g_x=-9.81),
@@ -178,6 +225,7 @@ NUMBA_CASES = {
     SpeedSource: dict(w=2.0), VelocitySource: dict(v=0.1),
     SpeedSensor: dict(port=8.0), VelocitySensor: dict(port=-0.5),
     AngleSensor: dict(port=4.0, theta=0.5), PositionSensor: dict(port=0.2, x=1.5),
+    InductionMotor: dict(shaft=150.0, **KLOSS),
 }
 
 

@@ -14,10 +14,12 @@ from blocks.library.hydraulic import (  # noqa: F401
     pipe,
     pressure_sensor,
     pressure_source,
+    pump,
     relief_valve,
     spool_relief_valve,
     tank,
     valve_4_3,
     variable_orifice,
+    variable_pump,
     volume,
 )

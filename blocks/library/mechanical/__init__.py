@@ -4,6 +4,7 @@ from blocks.library.mechanical import (  # noqa: F401
     angle_sensor,
     force_source,
     gear,
+    induction_motor,
     inertia,
     mass,
     position_sensor,
