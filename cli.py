@@ -558,7 +558,8 @@ def cmd_linearise(args) -> int:
     print(f"# {args.netlist} linearised about {point.how}")
     for note in _linear_notes(model, point):
         print(f"# {note}")
-    shown = [f"{name} = {value / parse_unit(logged[name].display_unit).factor:.6g} {logged[name].display_unit}"
+    shown = [f"{name} = {value / parse_unit(logged[name].display_unit).factor:.6g}"
+             + ("" if logged[name].display_unit == "1" else f" {logged[name].display_unit}")
              for name, value in logged_values(circuit, point).items()]
     print(f"# there: {', '.join(shown)}")
     print(report.modes_table(found))
