@@ -33,6 +33,20 @@ def smooth_step(x, x0, width):
     return s * s * (3.0 - 2.0 * s)
 
 
+@njit(cache=True)
+def smooth_max0(x, width):
+    """max(x, 0) with its kink rounded over |x| < width/2 (C1): 0 below -width/2, x above +width/2,
+    (x + width/2)^2/(2*width) in between (width <= 0: the plain max)."""
+    if width <= 0.0:
+        return max(x, 0.0)
+    h = 0.5 * width
+    if x <= -h:
+        return 0.0
+    if x >= h:
+        return x
+    return (x + h) * (x + h) / (2.0 * width)
+
+
 def opening_range_problem(values: dict, setting: str) -> str | None:
     """What is wrong with a valve's opening range (build time, plain Python): the full-open pressure
     p_open must be above the cracking one (``setting``), or the area would jump from closed to open."""
