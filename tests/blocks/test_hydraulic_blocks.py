@@ -21,6 +21,7 @@ from blocks.library.hydraulic.flow_source_signal import FlowSourceSignal
 from blocks.library.hydraulic.hydraulic_motor import HydraulicMotor
 from blocks.library.hydraulic.laminar_orifice import LaminarOrifice
 from blocks.library.hydraulic.orifice import Orifice
+from blocks.library.hydraulic.pressure_reducing_valve import PressureReducingValve
 from blocks.library.hydraulic.pressure_sensor import PressureSensor
 from blocks.library.hydraulic.pressure_source import PressureSource
 from blocks.library.hydraulic.relief_valve import ReliefValve
@@ -54,6 +55,7 @@ def sqrt_law(dp, area, cd=0.7, rho=RHO):
         ("laminar_orifice", LaminarOrifice), ("check_valve", CheckValve), ("relief_valve", ReliefValve),
         ("pressure_sensor", PressureSensor), ("flow_sensor", FlowSensor), ("hydraulic_motor", HydraulicMotor),
         ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator),
+        ("pressure_reducing_valve", PressureReducingValve),
     ],
 )
 def test_hydraulic_block_registered(type_name, cls):
@@ -380,6 +382,101 @@ def test_cylinder_end_stops():
     assert cyl(stroke + d, 0.0)["V_B"] == CYL["V0_B"]
 
 
+# ---------------------------------------------------------------- pressure-reducing, flow-control, counterbalance, shuttle
+def cubic_step(x, x0, width):
+    """The C1 ramp the valves open by, written out: 0 below x0, 1 above x0 + width, 3s^2 - 2s^3 between."""
+    s = min(max((x - x0) / width, 0.0), 1.0)
+    return s * s * (3.0 - 2.0 * s)
+
+
+def ascending_pairs(values):
+    """Neighbouring pairs (lo, hi) of the distinct values, ascending."""
+    ordered = sorted(set(values))
+    return list(zip(ordered, ordered[1:]))
+
+
+def kpa(n):
+    """Pressures drawn as whole kPa: neighbours differ by at least 1 kPa, a change the laws resolve (a
+    drawn difference of 1e-300 Pa is lost in rounding and proves nothing)."""
+    return st.lists(st.integers(0, n).map(lambda k: k * 1e3), min_size=2, max_size=6)
+
+
+# With dp_t = 1 kPa the regularised law is the plain square-root law to (1 + (dp_t/dp)^2)^(-1/4) - 1 > -2.5e-5
+# at the smallest drop compared here (1 bar); 1e-4 relative tells any area or pressure error apart.
+SQRT_REL = 1e-4
+PRV = dict(p_set=50 * BAR, dp_band=5 * BAR, dp_relief=2 * BAR, A_max=20e-6, A_relief=5e-6, A_leak=1e-9, Cd=0.7,
+           dp_t=1e3, rho=RHO)
+
+
+def prv(p_A, p_P=200 * BAR, p_T=0.0, **over):
+    return named(PressureReducingValve, PressureReducingValve.derivatives(P=p_P, A=p_A, T=p_T, **{**PRV, **over}))
+
+
+def prv_expected(p_A, p_P=200 * BAR, p_T=0.0):
+    """(q_PA, q_AT) from the edges' areas: the reducing edge closes over 50 ... 55 bar of p_A - p_T, the
+    relieving edge opens over 57 ... 62 bar."""
+    x = p_A - p_T
+    a_pa = 1e-9 + (20e-6 - 1e-9) * (1.0 - cubic_step(x, 50 * BAR, 5 * BAR))
+    a_at = 1e-9 + (5e-6 - 1e-9) * cubic_step(x, 57 * BAR, 5 * BAR)
+    return sqrt_law(p_P - p_A, a_pa), sqrt_law(p_A - p_T, a_at)
+
+
+@pytest.mark.parametrize("p_A_bar, p_T_bar", [(5, 0), (30, 0), (49, 0), (52.5, 0), (54, 0), (56, 0), (59.5, 0),
+                                              (61, 0), (80, 0), (65, 12), (40, 3)])
+def test_pressure_reducing_valve_edges_against_the_square_root_law(p_A_bar, p_T_bar):
+    p_A, p_T = p_A_bar * BAR, p_T_bar * BAR
+    d = prv(p_A, p_T=p_T)
+    q_PA, q_AT = prv_expected(p_A, p_T=p_T)
+    assert d["q_P"] == pytest.approx(-q_PA, rel=SQRT_REL)
+    assert d["q_T"] == pytest.approx(q_AT, rel=SQRT_REL)
+    assert d["q_A"] == pytest.approx(q_PA - q_AT, rel=SQRT_REL)
+
+
+def test_pressure_reducing_valve_regions():
+    """Open below the setting, half shut in the middle of the band, both edges shut in the overlap, relieving above."""
+    full = sqrt_law(170 * BAR, 20e-6)
+    assert prv(30 * BAR)["q_A"] == pytest.approx(full - sqrt_law(30 * BAR, 1e-9), rel=SQRT_REL)
+    assert prv(52.5 * BAR)["q_P"] == pytest.approx(-sqrt_law(147.5 * BAR, 10e-6 + 0.5e-9), rel=SQRT_REL)
+    overlap = prv(56 * BAR)
+    assert overlap["q_P"] == pytest.approx(-sqrt_law(144 * BAR, 1e-9), rel=SQRT_REL)  # leakage only
+    assert overlap["q_T"] == pytest.approx(sqrt_law(56 * BAR, 1e-9), rel=SQRT_REL)
+    assert prv(70 * BAR)["q_T"] == pytest.approx(sqrt_law(70 * BAR, 5e-6), rel=SQRT_REL)
+    # the setting is on p_A - p_T (the spring chamber drains to T): the same drop closes the edge at any p_T
+    assert prv(62.5 * BAR, p_T=10 * BAR)["q_P"] == pytest.approx(-sqrt_law(137.5 * BAR, 10e-6 + 0.5e-9), rel=SQRT_REL)
+    # without the overlap the relieving edge starts where the reducing one has shut
+    assert prv(56 * BAR, dp_relief=0.0)["q_T"] > 10 * overlap["q_T"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(p_P=st.floats(10 * BAR, 350 * BAR), p_T=st.floats(0.0, 5 * BAR), levels=kpa(35000))
+def test_pressure_reducing_valve_outlet_flow_falls_as_the_outlet_pressure_rises(p_P, p_T, levels):
+    """Between the tank and the supply pressure, the flow delivered to A strictly falls as p_A rises (the
+    reducing edge closes and its drop shrinks, the relieving edge opens and its drop grows): one regulated
+    pressure for every load."""
+    for lo, hi in ascending_pairs(p for p in levels if p_T <= p <= p_P):
+        assert prv(hi, p_P=p_P, p_T=p_T)["q_A"] < prv(lo, p_P=p_P, p_T=p_T)["q_A"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(P=st.floats(-1e6, 4e7), A=st.floats(-1e6, 4e7), T=st.floats(-1e6, 4e7))
+def test_pressure_reducing_valve_conserves_flow(P, A, T):
+    d = prv(A, p_P=P, p_T=T)
+    assert abs(sum(d.values())) <= 1e-12 * (sum(abs(v) for v in d.values()) + 1e-300)
+
+
+def test_pressure_reducing_valve_continuous_at_the_band_edges():
+    for edge in (50, 55, 57, 62):
+        lo, hi = prv(edge * BAR - 1e-3), prv(edge * BAR + 1e-3)
+        for key in lo:
+            assert hi[key] == pytest.approx(lo[key], rel=1e-6, abs=1e-12)
+
+
+def test_pressure_reducing_valve_refuses_a_leak_above_an_open_area():
+    assert PressureReducingValve.check_values(PRV) is None
+    said = PressureReducingValve.check_values({**PRV, "A_leak": 1e-5})
+    assert said == "A_leak = 1e-05 m^2 must not exceed A_relief = 5e-06 m^2 (the closed edge would pass more than the open one)"
+
+
 # ---------------------------------------------------------------- numba: compiled == pure Python
 NUMBA_CASES = {
     Orifice: dict(a=3e6, b=1e6, A=1e-5, Cd=0.7, dp_t=1e5, rho=RHO),
@@ -397,6 +494,7 @@ NUMBA_CASES = {
     HydraulicMotor: dict(a=1e7, b=1e6, shaft=10.0, G_leak=1e-12, **MOTOR),
     Valve43: dict(P=PS, T=PT, A=PA, B=PB, x=0.3, **{**VALVE, "A_leak": 1e-9}),
     Cylinder: dict(A=1e7, B=2e6, rod=0.1, x=0.5002, **CYL),
+    PressureReducingValve: dict(P=200 * BAR, A=53 * BAR, T=1 * BAR, **PRV),
 }
 
 

@@ -11,6 +11,7 @@ from blocks.library.hydraulic import (  # noqa: F401
     laminar_orifice,
     line_loss,
     orifice,
+    pressure_reducing_valve,
     pressure_sensor,
     pressure_source,
     relief_valve,
