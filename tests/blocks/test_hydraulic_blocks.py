@@ -15,6 +15,7 @@ from blocks.library.hydraulic.accumulator import Accumulator
 from blocks.library.hydraulic.check_valve import CheckValve
 from blocks.library.hydraulic.cylinder import Cylinder
 from blocks.library.hydraulic.flow import turbulent_flow
+from blocks.library.hydraulic.flow_control_valve import FlowControlValve
 from blocks.library.hydraulic.flow_sensor import FlowSensor
 from blocks.library.hydraulic.flow_source import FlowSource
 from blocks.library.hydraulic.flow_source_signal import FlowSourceSignal
@@ -56,6 +57,7 @@ def sqrt_law(dp, area, cd=0.7, rho=RHO):
         ("pressure_sensor", PressureSensor), ("flow_sensor", FlowSensor), ("hydraulic_motor", HydraulicMotor),
         ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator),
         ("pressure_reducing_valve", PressureReducingValve),
+        ("flow_control_valve", FlowControlValve),
     ],
 )
 def test_hydraulic_block_registered(type_name, cls):
@@ -477,6 +479,53 @@ def test_pressure_reducing_valve_refuses_a_leak_above_an_open_area():
     assert said == "A_leak = 1e-05 m^2 must not exceed A_relief = 5e-06 m^2 (the closed edge would pass more than the open one)"
 
 
+FCV = dict(A_meter=10e-6, dp_c=10 * BAR, knee=0.1, Cd=0.7, dp_t=1e3, rho=RHO)
+
+
+def fcv(dp, **over):
+    return named(FlowControlValve, FlowControlValve.derivatives(a=dp + 30 * BAR, b=30 * BAR, **{**FCV, **over}))
+
+
+def test_flow_control_valve_square_root_law_below_and_held_flow_above_the_setting():
+    """Below dp_c - knee*dp_c/2 = 9.5 bar the whole drop is over the metering orifice; above 10.5 bar the
+    compensator holds it at dp_c: q_set = Cd*A*sqrt(2*dp_c/rho) = 1.074 l/min... for any drop."""
+    for dp in (1 * BAR, 5 * BAR, 9.4 * BAR):
+        assert fcv(dp)["q_b"] == pytest.approx(sqrt_law(dp, 10e-6), rel=SQRT_REL)
+    q_set = 0.7 * 10e-6 * math.sqrt(2 * 10 * BAR / RHO)
+    for dp in (10.6 * BAR, 20 * BAR, 100 * BAR, 300 * BAR):
+        assert fcv(dp)["q_b"] == pytest.approx(q_set, rel=SQRT_REL)
+    # in the knee: dp_m = dp - (dp - dp_c + w/2)^2/(2w), w = 1 bar; at dp = dp_c that is dp_c - w/8
+    assert fcv(10 * BAR)["q_b"] == pytest.approx(sqrt_law(10 * BAR - 1 * BAR / 8, 10e-6), rel=SQRT_REL)
+
+
+def test_flow_control_valve_reverse_flow_is_not_compensated():
+    for dp in (-5 * BAR, -50 * BAR):
+        q = fcv(dp)
+        assert q["q_b"] == pytest.approx(sqrt_law(dp, 10e-6), rel=SQRT_REL)
+        assert q["q_a"] == -q["q_b"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(levels=kpa(45000), knee=st.floats(0.0, 1.0))
+def test_flow_control_valve_flow_never_falls_as_the_drop_rises(levels, knee):
+    for lo, hi in ascending_pairs(p - 50 * BAR for p in levels):  # -50 ... 400 bar
+        q_lo, q_hi = fcv(lo, knee=knee)["q_b"], fcv(hi, knee=knee)["q_b"]
+        assert q_hi >= q_lo
+        if hi < 10 * BAR * (1 - knee / 2):  # below the knee: strictly, the square-root law
+            assert q_hi > q_lo
+    assert fcv(0.0, knee=knee)["q_b"] == 0.0  # no flow without a drop, even with the widest knee
+
+
+def test_flow_control_valve_is_c1_through_the_knee():
+    h = 1.0
+    for dp in (9.5 * BAR, 10 * BAR, 10.5 * BAR):
+        left = (fcv(dp)["q_b"] - fcv(dp - h)["q_b"]) / h
+        right = (fcv(dp + h)["q_b"] - fcv(dp)["q_b"]) / h
+        assert right == pytest.approx(left, rel=1e-3, abs=1e-15)
+    # and the slope does fall to zero across the knee (the compensator takes over)
+    assert (fcv(10.5 * BAR + h)["q_b"] - fcv(10.5 * BAR)["q_b"]) == pytest.approx(0.0, abs=1e-18)
+
+
 # ---------------------------------------------------------------- numba: compiled == pure Python
 NUMBA_CASES = {
     Orifice: dict(a=3e6, b=1e6, A=1e-5, Cd=0.7, dp_t=1e5, rho=RHO),
@@ -495,6 +544,7 @@ NUMBA_CASES = {
     Valve43: dict(P=PS, T=PT, A=PA, B=PB, x=0.3, **{**VALVE, "A_leak": 1e-9}),
     Cylinder: dict(A=1e7, B=2e6, rod=0.1, x=0.5002, **CYL),
     PressureReducingValve: dict(P=200 * BAR, A=53 * BAR, T=1 * BAR, **PRV),
+    FlowControlValve: dict(a=40 * BAR, b=30.2 * BAR, **FCV),
 }
 
 

@@ -4,6 +4,7 @@ from blocks.library.hydraulic import (  # noqa: F401
     accumulator,
     check_valve,
     cylinder,
+    flow_control_valve,
     flow_sensor,
     flow_source,
     flow_source_signal,
