@@ -13,6 +13,7 @@ from hypothesis import strategies as st
 from blocks.block import argument_names
 from blocks.library.hydraulic.accumulator import Accumulator
 from blocks.library.hydraulic.check_valve import CheckValve
+from blocks.library.hydraulic.counterbalance_valve import CounterbalanceValve
 from blocks.library.hydraulic.cylinder import Cylinder
 from blocks.library.hydraulic.flow import turbulent_flow
 from blocks.library.hydraulic.flow_control_valve import FlowControlValve
@@ -58,6 +59,7 @@ def sqrt_law(dp, area, cd=0.7, rho=RHO):
         ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator),
         ("pressure_reducing_valve", PressureReducingValve),
         ("flow_control_valve", FlowControlValve),
+        ("counterbalance_valve", CounterbalanceValve),
     ],
 )
 def test_hydraulic_block_registered(type_name, cls):
@@ -526,6 +528,86 @@ def test_flow_control_valve_is_c1_through_the_knee():
     assert (fcv(10.5 * BAR + h)["q_b"] - fcv(10.5 * BAR)["q_b"]) == pytest.approx(0.0, abs=1e-18)
 
 
+CBV = dict(p_set=200 * BAR, R_pilot=4.0, dp_open=40 * BAR, A_relief=20e-6, A_check=30e-6, p_check=0.5 * BAR,
+           p_check_open=2 * BAR, A_leak=1e-9, dp_w=1 * BAR, Cd=0.7, dp_t=1e3, rho=RHO)
+
+
+def cbv(V, C, pilot, **over):
+    return named(CounterbalanceValve, CounterbalanceValve.derivatives(V=V, C=C, pilot=pilot, **{**CBV, **over}))
+
+
+def relief_area(p_ctl):
+    return 1e-9 + (20e-6 - 1e-9) * cubic_step(p_ctl, 200 * BAR, 40 * BAR)
+
+
+ROUNDED_AT_ZERO = 4.0 * 1 * BAR / 8  # R_pilot*dp_w/8: the rounded max(p_pilot - p_V, 0) at p_pilot = p_V
+
+
+@pytest.mark.parametrize("V, C, pilot, p_ctl", [
+    (0.0, 150 * BAR, 0.0, 150 * BAR + ROUNDED_AT_ZERO),  # holding the load, pilot at the tank: leakage only
+    (0.0, 220 * BAR, 0.0, 220 * BAR + ROUNDED_AT_ZERO),  # overload: the relief cracks without pilot
+    (0.0, 100 * BAR, 30 * BAR, 220 * BAR),  # lowering: piloted open half way
+    (0.0, 100 * BAR, 60 * BAR, 340 * BAR),  # piloted fully open
+    (10 * BAR, 100 * BAR, 40 * BAR, 90 * BAR + 4 * 30 * BAR),  # both referenced to p_V
+    (50 * BAR, 260 * BAR, 0.0, 210 * BAR),  # pilot below p_V: the pilot piston does not pull
+])
+def test_counterbalance_relief_against_the_square_root_law(V, C, pilot, p_ctl):
+    d = cbv(V, C, pilot)
+    q_r = sqrt_law(C - V, relief_area(p_ctl))
+    assert d["q_V"] == pytest.approx(q_r, rel=SQRT_REL)  # check valve shut: only the relief passes
+    assert d["q_C"] == -d["q_V"] and d["q_pilot"] == 0.0
+
+
+def test_counterbalance_check_valve_lifts_the_load():
+    V, C = 150 * BAR, 140 * BAR  # 10 bar across the check valve, far above its full-open 2 bar
+    d = cbv(V, C, 0.0)
+    assert d["q_C"] == pytest.approx(sqrt_law(10 * BAR, 30e-6) - sqrt_law(-10 * BAR, 1e-9), rel=SQRT_REL)
+    # half open at the middle of 0.5 ... 2 bar
+    d = cbv(101.25 * BAR, 100 * BAR, 0.0)
+    assert d["q_C"] == pytest.approx(sqrt_law(1.25 * BAR, 15e-6) + sqrt_law(1.25 * BAR, 1e-9), rel=SQRT_REL)
+    assert cbv(100.4 * BAR, 100 * BAR, 0.0, A_leak=0.0)["q_C"] == 0.0  # below the crack pressure: tight
+
+
+def test_counterbalance_opening_pressure_with_pilot():
+    """Cracks at p_C + R*p_pilot = p_set (V at the tank): the pilot lowers the load pressure it needs by R."""
+    for pilot in (0.0, 10 * BAR, 25 * BAR):
+        p_crack = 200 * BAR - 4.0 * pilot
+        shut, cracked = cbv(0.0, p_crack - 1 * BAR, pilot), cbv(0.0, p_crack + 8 * BAR, pilot)  # 0.5 bar rounding
+        assert shut["q_V"] == pytest.approx(sqrt_law(p_crack - 1 * BAR, 1e-9), rel=SQRT_REL)
+        assert cracked["q_V"] > 100 * shut["q_V"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(V=st.floats(0.0, 50 * BAR), C=st.floats(60 * BAR, 350 * BAR),
+       pilots=kpa(10000))
+def test_counterbalance_lowering_flow_never_falls_as_the_pilot_rises(V, C, pilots):
+    for lo, hi in ascending_pairs(pilots):
+        assert cbv(V, C, hi)["q_V"] >= cbv(V, C, lo)["q_V"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(V=st.floats(0.0, 50 * BAR), pilot=st.floats(0.0, 100 * BAR),
+       loads=kpa(29000))
+def test_counterbalance_lowering_flow_rises_with_the_load_pressure(V, pilot, loads):
+    for lo, hi in ascending_pairs(60 * BAR + p for p in loads):  # 60 ... 350 bar
+        assert cbv(V, hi, pilot)["q_V"] > cbv(V, lo, pilot)["q_V"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(V=st.floats(-1e6, 4e7), C=st.floats(-1e6, 4e7), pilot=st.floats(-1e6, 4e7))
+def test_counterbalance_conserves_flow(V, C, pilot):
+    d = cbv(V, C, pilot)
+    assert d["q_pilot"] == 0.0
+    assert abs(d["q_V"] + d["q_C"]) <= 1e-12 * (abs(d["q_V"]) + 1e-300)
+
+
+def test_counterbalance_refuses_inconsistent_values():
+    assert CounterbalanceValve.check_values(CBV) is None
+    said = CounterbalanceValve.check_values({**CBV, "p_check_open": 0.5 * BAR})
+    assert said == "p_check_open = 0.5 bar must be above p_check = 0.5 bar (the check valve opens over p_check ... p_check_open)"
+    assert "must not exceed A_relief" in CounterbalanceValve.check_values({**CBV, "A_leak": 1e-4})
+
+
 # ---------------------------------------------------------------- numba: compiled == pure Python
 NUMBA_CASES = {
     Orifice: dict(a=3e6, b=1e6, A=1e-5, Cd=0.7, dp_t=1e5, rho=RHO),
@@ -545,6 +627,7 @@ NUMBA_CASES = {
     Cylinder: dict(A=1e7, B=2e6, rod=0.1, x=0.5002, **CYL),
     PressureReducingValve: dict(P=200 * BAR, A=53 * BAR, T=1 * BAR, **PRV),
     FlowControlValve: dict(a=40 * BAR, b=30.2 * BAR, **FCV),
+    CounterbalanceValve: dict(V=5 * BAR, C=150 * BAR, pilot=25 * BAR, **CBV),
 }
 
 

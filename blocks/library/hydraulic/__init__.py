@@ -3,6 +3,7 @@
 from blocks.library.hydraulic import (  # noqa: F401
     accumulator,
     check_valve,
+    counterbalance_valve,
     cylinder,
     flow_control_valve,
     flow_sensor,
