@@ -6,9 +6,11 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
+from scipy.optimize import brentq
 
 from blocks.block import argument_names
 from blocks.library.hydraulic.accumulator import Accumulator
@@ -27,6 +29,7 @@ from blocks.library.hydraulic.pressure_reducing_valve import PressureReducingVal
 from blocks.library.hydraulic.pressure_sensor import PressureSensor
 from blocks.library.hydraulic.pressure_source import PressureSource
 from blocks.library.hydraulic.relief_valve import ReliefValve
+from blocks.library.hydraulic.shuttle_valve import ShuttleValve
 from blocks.library.hydraulic.tank import Tank
 from blocks.library.hydraulic.valve_4_3 import Valve43
 from blocks.library.hydraulic.variable_orifice import VariableOrifice
@@ -57,9 +60,8 @@ def sqrt_law(dp, area, cd=0.7, rho=RHO):
         ("laminar_orifice", LaminarOrifice), ("check_valve", CheckValve), ("relief_valve", ReliefValve),
         ("pressure_sensor", PressureSensor), ("flow_sensor", FlowSensor), ("hydraulic_motor", HydraulicMotor),
         ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator),
-        ("pressure_reducing_valve", PressureReducingValve),
-        ("flow_control_valve", FlowControlValve),
-        ("counterbalance_valve", CounterbalanceValve),
+        ("pressure_reducing_valve", PressureReducingValve), ("flow_control_valve", FlowControlValve),
+        ("counterbalance_valve", CounterbalanceValve), ("shuttle_valve", ShuttleValve),
     ],
 )
 def test_hydraulic_block_registered(type_name, cls):
@@ -608,6 +610,69 @@ def test_counterbalance_refuses_inconsistent_values():
     assert "must not exceed A_relief" in CounterbalanceValve.check_values({**CBV, "A_leak": 1e-4})
 
 
+SHUTTLE = dict(A_max=10e-6, dp_w=1 * BAR, A_leak=1e-9, Cd=0.7, dp_t=1e3, rho=RHO)
+
+
+def shuttle(a, b, out, **over):
+    return named(ShuttleValve, ShuttleValve.derivatives(a=a, b=b, out=out, **{**SHUTTLE, **over}))
+
+
+def test_shuttle_passes_the_higher_inlet():
+    d = shuttle(150 * BAR, 100 * BAR, 80 * BAR)
+    q_a, q_b = sqrt_law(70 * BAR, 10e-6), sqrt_law(20 * BAR, 1e-9)  # a open, b shut (leakage)
+    assert d["q_a"] == pytest.approx(-q_a, rel=SQRT_REL) and d["q_b"] == pytest.approx(-q_b, rel=SQRT_REL)
+    assert d["q_out"] == pytest.approx(q_a + q_b, rel=SQRT_REL)
+    swapped = shuttle(100 * BAR, 150 * BAR, 80 * BAR)
+    assert (swapped["q_a"], swapped["q_b"], swapped["q_out"]) == (d["q_b"], d["q_a"], d["q_out"])
+    # equal inlets: the ball in the middle, each passage half open
+    even = shuttle(100 * BAR, 100 * BAR, 90 * BAR)
+    assert even["q_out"] == pytest.approx(2 * sqrt_law(10 * BAR, 5e-6 + 0.5e-9), rel=SQRT_REL)
+
+
+def dead_ended_outlet(a, b, **over):
+    return brentq(lambda p: shuttle(a, b, p, **over)["q_out"], min(a, b) - 1.0, max(a, b) + 1.0, xtol=1e-6, rtol=1e-15)
+
+
+@pytest.mark.parametrize("dp_t", [1e3, 1e6])
+def test_shuttle_dead_ended_outlet_reads_the_higher_pressure(dp_t):
+    """Load-sense line (no flow at out): outside the band p_out is max(p_a, p_b) lowered by the leak x into the
+    other inlet. With r = A_leak/A_max, delta = |p_a - p_b| and g(x) = x/(x^2 + dp_t^2)^(1/4) <= sqrt(x),
+    A_max*g(x) = A_leak*g(delta + x) gives x <= 2^(1/4)*r*sqrt(dp_t*(delta + x)) if x <= dp_t (there
+    g(x) >= x/(2 dp_t^2)^(1/4)), else x <= sqrt(2)*r^2*(delta + x). Inside the band p_out stays between
+    the two and within 0.044*dp_w (the docstring's bound, linear law) of the higher."""
+    r = 1e-9 / 10e-6
+    for a, b in ((150 * BAR, 100 * BAR), (20 * BAR, 180 * BAR), (100 * BAR, 100.6 * BAR)):
+        p = dead_ended_outlet(a, b, dp_t=dp_t)
+        x, delta = max(a, b) - p, abs(a - b)
+        assert 0.0 < x <= max(2 ** 0.25 * r * math.sqrt(dp_t * (delta + x)), math.sqrt(2) * r * r * (delta + x))
+    for dp in np.linspace(-0.5 * BAR, 0.5 * BAR, 41):
+        a, b = 100 * BAR + dp, 100 * BAR
+        p = dead_ended_outlet(a, b, dp_t=dp_t)
+        assert min(a, b) - 1e-3 <= p <= max(a, b) + 1e-3
+        assert max(a, b) - p <= 0.044 * BAR
+
+
+@settings(max_examples=200, deadline=None)
+@given(a=st.floats(0.0, 4e7), b=st.floats(0.0, 4e7), outs=kpa(40000))
+def test_shuttle_outlet_flow_falls_as_the_outlet_pressure_rises(a, b, outs):
+    for lo, hi in ascending_pairs(outs):
+        assert shuttle(a, b, hi)["q_out"] < shuttle(a, b, lo)["q_out"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(a=st.floats(-1e6, 4e7), b=st.floats(-1e6, 4e7), out=st.floats(-1e6, 4e7))
+def test_shuttle_conserves_flow(a, b, out):
+    d = shuttle(a, b, out)
+    assert abs(sum(d.values())) <= 1e-12 * (sum(abs(v) for v in d.values()) + 1e-300)
+
+
+def test_shuttle_continuous_through_the_band():
+    for dp in (-0.5 * BAR, 0.0, 0.5 * BAR):
+        lo, hi = shuttle(100 * BAR + dp - 1e-3, 100 * BAR, 60 * BAR), shuttle(100 * BAR + dp + 1e-3, 100 * BAR, 60 * BAR)
+        for key in lo:
+            assert hi[key] == pytest.approx(lo[key], rel=1e-6)
+
+
 # ---------------------------------------------------------------- numba: compiled == pure Python
 NUMBA_CASES = {
     Orifice: dict(a=3e6, b=1e6, A=1e-5, Cd=0.7, dp_t=1e5, rho=RHO),
@@ -628,6 +693,7 @@ NUMBA_CASES = {
     PressureReducingValve: dict(P=200 * BAR, A=53 * BAR, T=1 * BAR, **PRV),
     FlowControlValve: dict(a=40 * BAR, b=30.2 * BAR, **FCV),
     CounterbalanceValve: dict(V=5 * BAR, C=150 * BAR, pilot=25 * BAR, **CBV),
+    ShuttleValve: dict(a=100.2 * BAR, b=100 * BAR, out=90 * BAR, **SHUTTLE),
 }
 
 

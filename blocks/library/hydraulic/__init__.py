@@ -17,6 +17,7 @@ from blocks.library.hydraulic import (  # noqa: F401
     pressure_sensor,
     pressure_source,
     relief_valve,
+    shuttle_valve,
     spool_relief_valve,
     tank,
     valve_4_3,
