@@ -629,6 +629,12 @@ def test_shuttle_passes_the_higher_inlet():
     assert even["q_out"] == pytest.approx(2 * sqrt_law(10 * BAR, 5e-6 + 0.5e-9), rel=SQRT_REL)
 
 
+def test_shuttle_refuses_a_leak_above_the_open_area():
+    assert ShuttleValve.check_values(SHUTTLE) is None
+    said = ShuttleValve.check_values({**SHUTTLE, "A_leak": 2e-5})
+    assert said == "A_leak = 2e-05 m^2 must not exceed A_max = 1e-05 m^2 (the closed passage would pass more than the open one)"
+
+
 def dead_ended_outlet(a, b, **over):
     return brentq(lambda p: shuttle(a, b, p, **over)["q_out"], min(a, b) - 1.0, max(a, b) + 1.0, xtol=1e-6, rtol=1e-15)
 

@@ -208,9 +208,9 @@ A_A_EX = 19.63e-4
 def test_counterbalance_example_holds_lifts_and_lowers_without_running_away():
     """Hanging 1 t on the rod-side chamber B through the counterbalance valve, a 4/3 valve (float centre)
     between it and a 180 bar source. Checked against the physics, not against a recorded run:
-    - holding (0.8 ... 1 s, settled from the start at rest): the rod's force balance p_C*A_B - p_A*A_A = m*g (to 0.1 %: the load creeps, it
-      does not accelerate), and it creeps at the relief's leakage speed (the closed relief's law over
-      p_C - p_V, over A_B; 1 %);
+    - holding (0.8 ... 1 s, settled from the start at rest): the rod's force balance
+      p_C*A_B - p_A*A_A = m*g (to 0.1 %: the load creeps, it does not accelerate), and it creeps at the
+      relief's leakage speed (the closed relief's law over p_C - p_V, over A_B; 1 %);
     - lifting: the rod retracts; lowering: it extends, with line A (the pilot line, fed by the 4/3 valve) kept
       well above the vapour pressure, so the load never runs ahead of the oil fed in;
     - lowering (4.3 ... 4.45 s, the load ringing a little at 10 Hz): chamber B's oil balance closes with

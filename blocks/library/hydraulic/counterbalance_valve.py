@@ -1,7 +1,7 @@
 """Generic counterbalance (load-holding, over-centre) valve."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_max0, smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, smooth_max0, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -25,9 +25,10 @@ class CounterbalanceValve(Block):
     the pilot at the tank it holds a load pressure up to p_set (set it about 1.3 times the load pressure);
     piloted, it opens at p_C = p_set - R_pilot*p_pilot (both gauge, p_V = 0). The pilot piston only
     pushes: a pilot pressure below p_V does not pull the relief shut (max(., 0), rounded over
-    |p_pilot - p_V| < dp_w/2: exact outside, R_pilot*dp_w/8 at p_pilot = p_V, the load-holding case, which
-    the default 0.1 bar keeps below 0.1 bar for R_pilot < 8). dp_open is the spring's pressure per full stroke over the relief seat (the
-    thesis's VBSO: 900 bar, table 2.11); the smaller it is, the stiffer (and less stable) the metering.
+    |p_pilot - p_V| < dp_w/2: exact outside, R_pilot*dp_w/8 at p_pilot = p_V, the load-holding case,
+    which the default dp_w = 0.1 bar keeps below 0.1 bar for R_pilot < 8). dp_open is the spring's
+    pressure per full stroke over the relief seat (the thesis's VBSO: 900 bar, table 2.11); the smaller
+    it is, the stiffer (and less stable) the metering.
     The closed relief leaks through A_leak (the load creeps); the closed check valve is tight.
     Quasi-static: the spool has no state (the crane's mcv_vaa and mcv_vbso model the spool dynamics).
     """
@@ -57,10 +58,7 @@ class CounterbalanceValve(Block):
         if values["p_check_open"] <= values["p_check"]:
             return (f"p_check_open = {values['p_check_open'] / 1e5:g} bar must be above p_check = "
                     f"{values['p_check'] / 1e5:g} bar (the check valve opens over p_check ... p_check_open)")
-        if values["A_leak"] > values["A_relief"]:
-            return (f"A_leak = {values['A_leak']:g} m^2 must not exceed A_relief = {values['A_relief']:g} m^2 "
-                    f"(the closed relief would pass more than the open one)")
-        return None
+        return leakage_problem(values, "A_relief", "relief")
 
     @staticmethod
     def derivatives(V, C, pilot, p_set, R_pilot, dp_open, A_relief, A_check, p_check, p_check_open, A_leak, dp_w,

@@ -54,3 +54,12 @@ def opening_range_problem(values: dict, setting: str) -> str | None:
         return (f"p_open = {values['p_open'] / 1e5:g} bar must be above {setting} = {values[setting] / 1e5:g} bar "
                 f"(the valve opens over {setting} ... p_open)")
     return None
+
+
+def leakage_problem(values: dict, area: str, closed: str) -> str | None:
+    """What is wrong with a closed ``closed``'s leakage area (build time, plain Python): A_leak above the
+    open area ``area`` would make the path pass more the further it closes (its flow no longer monotone)."""
+    if values["A_leak"] > values[area]:
+        return (f"A_leak = {values['A_leak']:g} m^2 must not exceed {area} = {values[area]:g} m^2 "
+                f"(the closed {closed} would pass more than the open one)")
+    return None

@@ -1,7 +1,7 @@
 """Direct-operated 3-way pressure-reducing/relieving valve."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -50,12 +50,7 @@ class PressureReducingValve(Block):
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
-        # a leakage above the open area would make an edge pass more as it closes (flow not monotone)
-        for area in ("A_max", "A_relief"):
-            if values["A_leak"] > values[area]:
-                return (f"A_leak = {values['A_leak']:g} m^2 must not exceed {area} = {values[area]:g} m^2 "
-                        f"(the closed edge would pass more than the open one)")
-        return None
+        return leakage_problem(values, "A_max", "edge") or leakage_problem(values, "A_relief", "edge")
 
     @staticmethod
     def derivatives(P, A, T, p_set, dp_band, dp_relief, A_max, A_relief, A_leak, Cd, dp_t, rho):

@@ -1,7 +1,7 @@
 """Shuttle valve (OR element): the higher of two inlet pressures reaches the outlet."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -45,10 +45,7 @@ class ShuttleValve(Block):
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
-        if values["A_leak"] > values["A_max"]:
-            return (f"A_leak = {values['A_leak']:g} m^2 must not exceed A_max = {values['A_max']:g} m^2 "
-                    f"(the closed passage would pass more than the open one)")
-        return None
+        return leakage_problem(values, "A_max", "passage")
 
     @staticmethod
     def derivatives(a, b, out, A_max, dp_w, A_leak, Cd, dp_t, rho):
