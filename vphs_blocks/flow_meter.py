@@ -2,8 +2,8 @@
 offset plus a laminar drop."""
 
 from blocks.block import Block, Param, hydraulic, signal_out
+from blocks.library.hydraulic.flow import smooth_max0
 from blocks.registry import register
-from vphs_blocks.mcv_vaa import smooth_max0
 
 
 @register("flow_meter")

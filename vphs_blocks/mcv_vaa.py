@@ -6,7 +6,7 @@ import math
 from numba import njit
 
 from blocks.block import Block, Param, State, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import smooth_max0, smooth_step, turbulent_flow
 from blocks.library.signal.linear import lowpass2_acceleration
 from blocks.registry import register
 
@@ -15,20 +15,6 @@ Z1 = 4.0847e5 * 1e5
 """z1 of eq. 3.13 [Pa^1.5*s/m^3]: pF = P(Q_lpm)*z1*Q/sqrt(dp), Q in m^3/s and dp in Pa."""
 LPM = 60000.0
 """l/min per m^3/s (the thesis's Q_l/min = Q*60000)."""
-
-
-@njit(cache=True)
-def smooth_max0(x, width):
-    """max(x, 0) with its kink rounded over |x| < width/2 (C1): 0 below -width/2, x above +width/2,
-    (x + width/2)^2/(2*width) in between (width <= 0: the plain max)."""
-    if width <= 0.0:
-        return max(x, 0.0)
-    h = 0.5 * width
-    if x <= -h:
-        return 0.0
-    if x >= h:
-        return x
-    return (x + h) * (x + h) / (2.0 * width)
 
 
 @njit(cache=True)

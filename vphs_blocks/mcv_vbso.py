@@ -3,10 +3,10 @@
 import math
 
 from blocks.block import Block, Param, State, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import turbulent_flow
+from blocks.library.hydraulic.flow import smooth_max0, turbulent_flow
 from blocks.library.signal.linear import lowpass2_acceleration
 from blocks.registry import register
-from vphs_blocks.mcv_vaa import check_valve_flow, smooth_max0, smooth_unit
+from vphs_blocks.mcv_vaa import check_valve_flow, smooth_unit
 
 
 @register("mcv_vbso")

@@ -6,25 +6,31 @@ from __future__ import annotations
 import math
 
 import numba
+import numpy as np
 import pytest
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
+from scipy.optimize import brentq
 
 from blocks.block import argument_names
 from blocks.library.hydraulic.accumulator import Accumulator
 from blocks.library.hydraulic.check_valve import CheckValve
+from blocks.library.hydraulic.counterbalance_valve import CounterbalanceValve
 from blocks.library.hydraulic.cylinder import Cylinder
 from blocks.library.hydraulic.flow import turbulent_flow
+from blocks.library.hydraulic.flow_control_valve import FlowControlValve
 from blocks.library.hydraulic.flow_sensor import FlowSensor
 from blocks.library.hydraulic.flow_source import FlowSource
 from blocks.library.hydraulic.flow_source_signal import FlowSourceSignal
 from blocks.library.hydraulic.hydraulic_motor import HydraulicMotor
 from blocks.library.hydraulic.laminar_orifice import LaminarOrifice
 from blocks.library.hydraulic.orifice import Orifice
+from blocks.library.hydraulic.pressure_reducing_valve import PressureReducingValve
 from blocks.library.hydraulic.pressure_sensor import PressureSensor
 from blocks.library.hydraulic.pressure_source import PressureSource
 from blocks.library.hydraulic.pump import Pump
 from blocks.library.hydraulic.relief_valve import ReliefValve
+from blocks.library.hydraulic.shuttle_valve import ShuttleValve
 from blocks.library.hydraulic.tank import Tank
 from blocks.library.hydraulic.valve_4_3 import Valve43
 from blocks.library.hydraulic.variable_orifice import VariableOrifice
@@ -57,6 +63,8 @@ def sqrt_law(dp, area, cd=0.7, rho=RHO):
         ("pressure_sensor", PressureSensor), ("flow_sensor", FlowSensor), ("hydraulic_motor", HydraulicMotor),
         ("valve_4_3", Valve43), ("cylinder", Cylinder), ("accumulator", Accumulator), ("pump", Pump),
         ("variable_pump", VariablePump),
+        ("pressure_reducing_valve", PressureReducingValve), ("flow_control_valve", FlowControlValve),
+        ("counterbalance_valve", CounterbalanceValve), ("shuttle_valve", ShuttleValve),
     ],
 )
 def test_hydraulic_block_registered(type_name, cls):
@@ -320,10 +328,10 @@ def vpump(ps, pp, w, eps, G=0.0, **over):
     return named(VariablePump, VariablePump.derivatives(s=ps, p=pp, shaft=w, eps=eps, G_leak=G, **{**VPUMP, **over}))
 
 
-def cubic_step(u):
-    """The compensator's C1 ramp written out: 0 below 0, 3u^2 - 2u^3 on [0, 1], 1 above."""
-    u = min(max(u, 0.0), 1.0)
-    return 3 * u**2 - 2 * u**3
+def cubic_step(x, x0, width):
+    """The C1 ramp the valves open by, written out: 0 below x0, 1 above x0 + width, 3s^2 - 2s^3 between."""
+    s = min(max((x - x0) / width, 0.0), 1.0)
+    return s * s * (3.0 - 2.0 * s)
 
 
 @pytest.mark.parametrize("eps_max", [1.0, 0.6])
@@ -334,7 +342,7 @@ def test_variable_pump_compensator_target(eps_max):
     cases = [(0.0, eps_max), (100 * BAR, eps_max), (p_c, eps_max), (p_c + dp_c / 4, eps_max * (1 - 0.15625)),
              (p_c + dp_c / 2, eps_max / 2), (p_c + dp_c, 0.0), (300 * BAR, 0.0)]
     for dp, target in cases:
-        assert target == pytest.approx(eps_max * (1 - cubic_step((dp - p_c) / dp_c)), rel=1e-12)
+        assert target == pytest.approx(eps_max * (1 - cubic_step(dp, p_c, dp_c)), rel=1e-12)
         d = vpump(2 * BAR, 2 * BAR + dp, 150.0, eps, eps_max=eps_max)  # the setting is on p_p - p_s
         assert d["der_eps"] == pytest.approx((target - eps) / tau_c, rel=1e-12, abs=1e-12)
 
@@ -511,6 +519,291 @@ def test_cylinder_end_stops():
     assert cyl(stroke + d, 0.0)["V_B"] == CYL["V0_B"]
 
 
+# ---------------------------------------------------------------- pressure-reducing, flow-control, counterbalance, shuttle
+def ascending_pairs(values):
+    """Neighbouring pairs (lo, hi) of the distinct values, ascending."""
+    ordered = sorted(set(values))
+    return list(zip(ordered, ordered[1:]))
+
+
+def kpa(n):
+    """Pressures drawn as whole kPa: neighbours differ by at least 1 kPa, a change the laws resolve (a
+    drawn difference of 1e-300 Pa is lost in rounding and proves nothing)."""
+    return st.lists(st.integers(0, n).map(lambda k: k * 1e3), min_size=2, max_size=6)
+
+
+# With dp_t = 1 kPa the regularised law is the plain square-root law to (1 + (dp_t/dp)^2)^(-1/4) - 1 > -2.5e-5
+# at the smallest drop compared here (1 bar); 1e-4 relative tells any area or pressure error apart.
+SQRT_REL = 1e-4
+PRV = dict(p_set=50 * BAR, dp_band=5 * BAR, dp_relief=2 * BAR, A_max=20e-6, A_relief=5e-6, A_leak=1e-9, Cd=0.7,
+           dp_t=1e3, rho=RHO)
+
+
+def prv(p_A, p_P=200 * BAR, p_T=0.0, **over):
+    return named(PressureReducingValve, PressureReducingValve.derivatives(P=p_P, A=p_A, T=p_T, **{**PRV, **over}))
+
+
+def prv_expected(p_A, p_P=200 * BAR, p_T=0.0):
+    """(q_PA, q_AT) from the edges' areas: the reducing edge closes over 50 ... 55 bar of p_A - p_T, the
+    relieving edge opens over 57 ... 62 bar."""
+    x = p_A - p_T
+    a_pa = 1e-9 + (20e-6 - 1e-9) * (1.0 - cubic_step(x, 50 * BAR, 5 * BAR))
+    a_at = 1e-9 + (5e-6 - 1e-9) * cubic_step(x, 57 * BAR, 5 * BAR)
+    return sqrt_law(p_P - p_A, a_pa), sqrt_law(p_A - p_T, a_at)
+
+
+@pytest.mark.parametrize("p_A_bar, p_T_bar", [(5, 0), (30, 0), (49, 0), (52.5, 0), (54, 0), (56, 0), (59.5, 0),
+                                              (61, 0), (80, 0), (65, 12), (40, 3)])
+def test_pressure_reducing_valve_edges_against_the_square_root_law(p_A_bar, p_T_bar):
+    p_A, p_T = p_A_bar * BAR, p_T_bar * BAR
+    d = prv(p_A, p_T=p_T)
+    q_PA, q_AT = prv_expected(p_A, p_T=p_T)
+    assert d["q_P"] == pytest.approx(-q_PA, rel=SQRT_REL)
+    assert d["q_T"] == pytest.approx(q_AT, rel=SQRT_REL)
+    assert d["q_A"] == pytest.approx(q_PA - q_AT, rel=SQRT_REL)
+
+
+def test_pressure_reducing_valve_regions():
+    """Open below the setting, half shut in the middle of the band, both edges shut in the overlap, relieving above."""
+    full = sqrt_law(170 * BAR, 20e-6)
+    assert prv(30 * BAR)["q_A"] == pytest.approx(full - sqrt_law(30 * BAR, 1e-9), rel=SQRT_REL)
+    assert prv(52.5 * BAR)["q_P"] == pytest.approx(-sqrt_law(147.5 * BAR, 10e-6 + 0.5e-9), rel=SQRT_REL)
+    overlap = prv(56 * BAR)
+    assert overlap["q_P"] == pytest.approx(-sqrt_law(144 * BAR, 1e-9), rel=SQRT_REL)  # leakage only
+    assert overlap["q_T"] == pytest.approx(sqrt_law(56 * BAR, 1e-9), rel=SQRT_REL)
+    assert prv(70 * BAR)["q_T"] == pytest.approx(sqrt_law(70 * BAR, 5e-6), rel=SQRT_REL)
+    # the setting is on p_A - p_T (the spring chamber drains to T): the same drop closes the edge at any p_T
+    assert prv(62.5 * BAR, p_T=10 * BAR)["q_P"] == pytest.approx(-sqrt_law(137.5 * BAR, 10e-6 + 0.5e-9), rel=SQRT_REL)
+    # without the overlap the relieving edge starts where the reducing one has shut
+    assert prv(56 * BAR, dp_relief=0.0)["q_T"] > 10 * overlap["q_T"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(p_P=st.floats(10 * BAR, 350 * BAR), p_T=st.floats(0.0, 5 * BAR), levels=kpa(35000))
+def test_pressure_reducing_valve_outlet_flow_falls_as_the_outlet_pressure_rises(p_P, p_T, levels):
+    """Between the tank and the supply pressure, the flow delivered to A strictly falls as p_A rises (the
+    reducing edge closes and its drop shrinks, the relieving edge opens and its drop grows): one regulated
+    pressure for every load."""
+    for lo, hi in ascending_pairs(p for p in levels if p_T <= p <= p_P):
+        assert prv(hi, p_P=p_P, p_T=p_T)["q_A"] < prv(lo, p_P=p_P, p_T=p_T)["q_A"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(P=st.floats(-1e6, 4e7), A=st.floats(-1e6, 4e7), T=st.floats(-1e6, 4e7))
+def test_pressure_reducing_valve_conserves_flow(P, A, T):
+    d = prv(A, p_P=P, p_T=T)
+    assert abs(sum(d.values())) <= 1e-12 * (sum(abs(v) for v in d.values()) + 1e-300)
+
+
+def test_pressure_reducing_valve_continuous_at_the_band_edges():
+    for edge in (50, 55, 57, 62):
+        lo, hi = prv(edge * BAR - 1e-3), prv(edge * BAR + 1e-3)
+        for key in lo:
+            assert hi[key] == pytest.approx(lo[key], rel=1e-6, abs=1e-12)
+
+
+def test_pressure_reducing_valve_refuses_a_leak_above_an_open_area():
+    assert PressureReducingValve.check_values(PRV) is None
+    said = PressureReducingValve.check_values({**PRV, "A_leak": 1e-5})
+    assert said == "A_leak = 1e-05 m^2 must not exceed A_relief = 5e-06 m^2 (the closed edge would pass more than the open one)"
+
+
+FCV = dict(A_meter=10e-6, dp_c=10 * BAR, knee=0.1, Cd=0.7, dp_t=1e3, rho=RHO)
+
+
+def fcv(dp, **over):
+    return named(FlowControlValve, FlowControlValve.derivatives(a=dp + 30 * BAR, b=30 * BAR, **{**FCV, **over}))
+
+
+def test_flow_control_valve_square_root_law_below_and_held_flow_above_the_setting():
+    """Below dp_c - knee*dp_c/2 = 9.5 bar the whole drop is over the metering orifice; above 10.5 bar the
+    compensator holds it at dp_c: q_set = Cd*A*sqrt(2*dp_c/rho) = 1.074 l/min... for any drop."""
+    for dp in (1 * BAR, 5 * BAR, 9.4 * BAR):
+        assert fcv(dp)["q_b"] == pytest.approx(sqrt_law(dp, 10e-6), rel=SQRT_REL)
+    q_set = 0.7 * 10e-6 * math.sqrt(2 * 10 * BAR / RHO)
+    for dp in (10.6 * BAR, 20 * BAR, 100 * BAR, 300 * BAR):
+        assert fcv(dp)["q_b"] == pytest.approx(q_set, rel=SQRT_REL)
+    # in the knee: dp_m = dp - (dp - dp_c + w/2)^2/(2w), w = 1 bar; at dp = dp_c that is dp_c - w/8
+    assert fcv(10 * BAR)["q_b"] == pytest.approx(sqrt_law(10 * BAR - 1 * BAR / 8, 10e-6), rel=SQRT_REL)
+
+
+def test_flow_control_valve_reverse_flow_is_not_compensated():
+    for dp in (-5 * BAR, -50 * BAR):
+        q = fcv(dp)
+        assert q["q_b"] == pytest.approx(sqrt_law(dp, 10e-6), rel=SQRT_REL)
+        assert q["q_a"] == -q["q_b"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(levels=kpa(45000), knee=st.floats(0.0, 1.0))
+def test_flow_control_valve_flow_never_falls_as_the_drop_rises(levels, knee):
+    for lo, hi in ascending_pairs(p - 50 * BAR for p in levels):  # -50 ... 400 bar
+        q_lo, q_hi = fcv(lo, knee=knee)["q_b"], fcv(hi, knee=knee)["q_b"]
+        assert q_hi >= q_lo
+        if hi < 10 * BAR * (1 - knee / 2):  # below the knee: strictly, the square-root law
+            assert q_hi > q_lo
+    assert fcv(0.0, knee=knee)["q_b"] == 0.0  # no flow without a drop, even with the widest knee
+
+
+def test_flow_control_valve_is_c1_through_the_knee():
+    h = 1.0
+    for dp in (9.5 * BAR, 10 * BAR, 10.5 * BAR):
+        left = (fcv(dp)["q_b"] - fcv(dp - h)["q_b"]) / h
+        right = (fcv(dp + h)["q_b"] - fcv(dp)["q_b"]) / h
+        assert right == pytest.approx(left, rel=1e-3, abs=1e-15)
+    # and the slope does fall to zero across the knee (the compensator takes over)
+    assert (fcv(10.5 * BAR + h)["q_b"] - fcv(10.5 * BAR)["q_b"]) == pytest.approx(0.0, abs=1e-18)
+
+
+CBV = dict(p_set=200 * BAR, R_pilot=4.0, dp_open=40 * BAR, A_relief=20e-6, A_check=30e-6, p_check=0.5 * BAR,
+           p_check_open=2 * BAR, A_leak=1e-9, dp_w=1 * BAR, Cd=0.7, dp_t=1e3, rho=RHO)
+
+
+def cbv(V, C, pilot, **over):
+    return named(CounterbalanceValve, CounterbalanceValve.derivatives(V=V, C=C, pilot=pilot, **{**CBV, **over}))
+
+
+def relief_area(p_ctl):
+    return 1e-9 + (20e-6 - 1e-9) * cubic_step(p_ctl, 200 * BAR, 40 * BAR)
+
+
+ROUNDED_AT_ZERO = 4.0 * 1 * BAR / 8  # R_pilot*dp_w/8: the rounded max(p_pilot - p_V, 0) at p_pilot = p_V
+
+
+@pytest.mark.parametrize("V, C, pilot, p_ctl", [
+    (0.0, 150 * BAR, 0.0, 150 * BAR + ROUNDED_AT_ZERO),  # holding the load, pilot at the tank: leakage only
+    (0.0, 220 * BAR, 0.0, 220 * BAR + ROUNDED_AT_ZERO),  # overload: the relief cracks without pilot
+    (0.0, 100 * BAR, 30 * BAR, 220 * BAR),  # lowering: piloted open half way
+    (0.0, 100 * BAR, 60 * BAR, 340 * BAR),  # piloted fully open
+    (10 * BAR, 100 * BAR, 40 * BAR, 90 * BAR + 4 * 30 * BAR),  # both referenced to p_V
+    (50 * BAR, 260 * BAR, 0.0, 210 * BAR),  # pilot below p_V: the pilot piston does not pull
+])
+def test_counterbalance_relief_against_the_square_root_law(V, C, pilot, p_ctl):
+    d = cbv(V, C, pilot)
+    q_r = sqrt_law(C - V, relief_area(p_ctl))
+    assert d["q_V"] == pytest.approx(q_r, rel=SQRT_REL)  # check valve shut: only the relief passes
+    assert d["q_C"] == -d["q_V"] and d["q_pilot"] == 0.0
+
+
+def test_counterbalance_check_valve_lifts_the_load():
+    V, C = 150 * BAR, 140 * BAR  # 10 bar across the check valve, far above its full-open 2 bar
+    d = cbv(V, C, 0.0)
+    assert d["q_C"] == pytest.approx(sqrt_law(10 * BAR, 30e-6) - sqrt_law(-10 * BAR, 1e-9), rel=SQRT_REL)
+    # half open at the middle of 0.5 ... 2 bar
+    d = cbv(101.25 * BAR, 100 * BAR, 0.0)
+    assert d["q_C"] == pytest.approx(sqrt_law(1.25 * BAR, 15e-6) + sqrt_law(1.25 * BAR, 1e-9), rel=SQRT_REL)
+    assert cbv(100.4 * BAR, 100 * BAR, 0.0, A_leak=0.0)["q_C"] == 0.0  # below the crack pressure: tight
+
+
+def test_counterbalance_opening_pressure_with_pilot():
+    """Cracks at p_C + R*p_pilot = p_set (V at the tank): the pilot lowers the load pressure it needs by R."""
+    for pilot in (0.0, 10 * BAR, 25 * BAR):
+        p_crack = 200 * BAR - 4.0 * pilot
+        shut, cracked = cbv(0.0, p_crack - 1 * BAR, pilot), cbv(0.0, p_crack + 8 * BAR, pilot)  # 0.5 bar rounding
+        assert shut["q_V"] == pytest.approx(sqrt_law(p_crack - 1 * BAR, 1e-9), rel=SQRT_REL)
+        assert cracked["q_V"] > 100 * shut["q_V"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(V=st.floats(0.0, 50 * BAR), C=st.floats(60 * BAR, 350 * BAR),
+       pilots=kpa(10000))
+def test_counterbalance_lowering_flow_never_falls_as_the_pilot_rises(V, C, pilots):
+    for lo, hi in ascending_pairs(pilots):
+        assert cbv(V, C, hi)["q_V"] >= cbv(V, C, lo)["q_V"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(V=st.floats(0.0, 50 * BAR), pilot=st.floats(0.0, 100 * BAR),
+       loads=kpa(29000))
+def test_counterbalance_lowering_flow_rises_with_the_load_pressure(V, pilot, loads):
+    for lo, hi in ascending_pairs(60 * BAR + p for p in loads):  # 60 ... 350 bar
+        assert cbv(V, hi, pilot)["q_V"] > cbv(V, lo, pilot)["q_V"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(V=st.floats(-1e6, 4e7), C=st.floats(-1e6, 4e7), pilot=st.floats(-1e6, 4e7))
+def test_counterbalance_conserves_flow(V, C, pilot):
+    d = cbv(V, C, pilot)
+    assert d["q_pilot"] == 0.0
+    assert abs(d["q_V"] + d["q_C"]) <= 1e-12 * (abs(d["q_V"]) + 1e-300)
+
+
+def test_counterbalance_refuses_inconsistent_values():
+    assert CounterbalanceValve.check_values(CBV) is None
+    said = CounterbalanceValve.check_values({**CBV, "p_check_open": 0.5 * BAR})
+    assert said == "p_check_open = 0.5 bar must be above p_check = 0.5 bar (the check valve opens over p_check ... p_check_open)"
+    assert "must not exceed A_relief" in CounterbalanceValve.check_values({**CBV, "A_leak": 1e-4})
+
+
+SHUTTLE = dict(A_max=10e-6, dp_w=1 * BAR, A_leak=1e-9, Cd=0.7, dp_t=1e3, rho=RHO)
+
+
+def shuttle(a, b, out, **over):
+    return named(ShuttleValve, ShuttleValve.derivatives(a=a, b=b, out=out, **{**SHUTTLE, **over}))
+
+
+def test_shuttle_passes_the_higher_inlet():
+    d = shuttle(150 * BAR, 100 * BAR, 80 * BAR)
+    q_a, q_b = sqrt_law(70 * BAR, 10e-6), sqrt_law(20 * BAR, 1e-9)  # a open, b shut (leakage)
+    assert d["q_a"] == pytest.approx(-q_a, rel=SQRT_REL) and d["q_b"] == pytest.approx(-q_b, rel=SQRT_REL)
+    assert d["q_out"] == pytest.approx(q_a + q_b, rel=SQRT_REL)
+    swapped = shuttle(100 * BAR, 150 * BAR, 80 * BAR)
+    assert (swapped["q_a"], swapped["q_b"], swapped["q_out"]) == (d["q_b"], d["q_a"], d["q_out"])
+    # equal inlets: the ball in the middle, each passage half open
+    even = shuttle(100 * BAR, 100 * BAR, 90 * BAR)
+    assert even["q_out"] == pytest.approx(2 * sqrt_law(10 * BAR, 5e-6 + 0.5e-9), rel=SQRT_REL)
+
+
+def test_shuttle_refuses_a_leak_above_the_open_area():
+    assert ShuttleValve.check_values(SHUTTLE) is None
+    said = ShuttleValve.check_values({**SHUTTLE, "A_leak": 2e-5})
+    assert said == "A_leak = 2e-05 m^2 must not exceed A_max = 1e-05 m^2 (the closed passage would pass more than the open one)"
+
+
+def dead_ended_outlet(a, b, **over):
+    return brentq(lambda p: shuttle(a, b, p, **over)["q_out"], min(a, b) - 1.0, max(a, b) + 1.0, xtol=1e-6, rtol=1e-15)
+
+
+@pytest.mark.parametrize("dp_t", [1e3, 1e6])
+def test_shuttle_dead_ended_outlet_reads_the_higher_pressure(dp_t):
+    """Load-sense line (no flow at out): outside the band p_out is max(p_a, p_b) lowered by the leak x into the
+    other inlet. With r = A_leak/A_max, delta = |p_a - p_b| and g(x) = x/(x^2 + dp_t^2)^(1/4) <= sqrt(x),
+    A_max*g(x) = A_leak*g(delta + x) gives x <= 2^(1/4)*r*sqrt(dp_t*(delta + x)) if x <= dp_t (there
+    g(x) >= x/(2 dp_t^2)^(1/4)), else x <= sqrt(2)*r^2*(delta + x). Inside the band p_out stays between
+    the two and within 0.044*dp_w (the docstring's bound, linear law) of the higher."""
+    r = 1e-9 / 10e-6
+    for a, b in ((150 * BAR, 100 * BAR), (20 * BAR, 180 * BAR), (100 * BAR, 100.6 * BAR)):
+        p = dead_ended_outlet(a, b, dp_t=dp_t)
+        x, delta = max(a, b) - p, abs(a - b)
+        assert 0.0 < x <= max(2 ** 0.25 * r * math.sqrt(dp_t * (delta + x)), math.sqrt(2) * r * r * (delta + x))
+    for dp in np.linspace(-0.5 * BAR, 0.5 * BAR, 41):
+        a, b = 100 * BAR + dp, 100 * BAR
+        p = dead_ended_outlet(a, b, dp_t=dp_t)
+        assert min(a, b) - 1e-3 <= p <= max(a, b) + 1e-3
+        assert max(a, b) - p <= 0.044 * BAR
+
+
+@settings(max_examples=200, deadline=None)
+@given(a=st.floats(0.0, 4e7), b=st.floats(0.0, 4e7), outs=kpa(40000))
+def test_shuttle_outlet_flow_falls_as_the_outlet_pressure_rises(a, b, outs):
+    for lo, hi in ascending_pairs(outs):
+        assert shuttle(a, b, hi)["q_out"] < shuttle(a, b, lo)["q_out"]
+
+
+@settings(max_examples=200, deadline=None)
+@given(a=st.floats(-1e6, 4e7), b=st.floats(-1e6, 4e7), out=st.floats(-1e6, 4e7))
+def test_shuttle_conserves_flow(a, b, out):
+    d = shuttle(a, b, out)
+    assert abs(sum(d.values())) <= 1e-12 * (sum(abs(v) for v in d.values()) + 1e-300)
+
+
+def test_shuttle_continuous_through_the_band():
+    for dp in (-0.5 * BAR, 0.0, 0.5 * BAR):
+        lo, hi = shuttle(100 * BAR + dp - 1e-3, 100 * BAR, 60 * BAR), shuttle(100 * BAR + dp + 1e-3, 100 * BAR, 60 * BAR)
+        for key in lo:
+            assert hi[key] == pytest.approx(lo[key], rel=1e-6)
+
+
 # ---------------------------------------------------------------- numba: compiled == pure Python
 NUMBA_CASES = {
     Orifice: dict(a=3e6, b=1e6, A=1e-5, Cd=0.7, dp_t=1e5, rho=RHO),
@@ -530,6 +823,10 @@ NUMBA_CASES = {
     Cylinder: dict(A=1e7, B=2e6, rod=0.1, x=0.5002, **CYL),
     Pump: dict(s=1e5, p=1.5e7, shaft=150.0, G_leak=1e-12, **PUMP),
     VariablePump: dict(s=1e5, p=2.02e7, shaft=150.0, eps=0.7, G_leak=1e-12, **VPUMP),
+    PressureReducingValve: dict(P=200 * BAR, A=53 * BAR, T=1 * BAR, **PRV),
+    FlowControlValve: dict(a=40 * BAR, b=30.2 * BAR, **FCV),
+    CounterbalanceValve: dict(V=5 * BAR, C=150 * BAR, pilot=25 * BAR, **CBV),
+    ShuttleValve: dict(a=100.2 * BAR, b=100 * BAR, out=90 * BAR, **SHUTTLE),
 }
 
 

@@ -33,10 +33,33 @@ def smooth_step(x, x0, width):
     return s * s * (3.0 - 2.0 * s)
 
 
+@njit(cache=True)
+def smooth_max0(x, width):
+    """max(x, 0) with its kink rounded over |x| < width/2 (C1): 0 below -width/2, x above +width/2,
+    (x + width/2)^2/(2*width) in between (width <= 0: the plain max)."""
+    if width <= 0.0:
+        return max(x, 0.0)
+    h = 0.5 * width
+    if x <= -h:
+        return 0.0
+    if x >= h:
+        return x
+    return (x + h) * (x + h) / (2.0 * width)
+
+
 def opening_range_problem(values: dict, setting: str) -> str | None:
     """What is wrong with a valve's opening range (build time, plain Python): the full-open pressure
     p_open must be above the cracking one (``setting``), or the area would jump from closed to open."""
     if values["p_open"] <= values[setting]:
         return (f"p_open = {values['p_open'] / 1e5:g} bar must be above {setting} = {values[setting] / 1e5:g} bar "
                 f"(the valve opens over {setting} ... p_open)")
+    return None
+
+
+def leakage_problem(values: dict, area: str, closed: str) -> str | None:
+    """What is wrong with a closed ``closed``'s leakage area (build time, plain Python): A_leak above the
+    open area ``area`` would make the path pass more the further it closes (its flow no longer monotone)."""
+    if values["A_leak"] > values[area]:
+        return (f"A_leak = {values['A_leak']:g} m^2 must not exceed {area} = {values[area]:g} m^2 "
+                f"(the closed {closed} would pass more than the open one)")
     return None
