@@ -17,6 +17,7 @@ from blocks.library.hydraulic import (  # noqa: F401
     pressure_reducing_valve,
     pressure_sensor,
     pressure_source,
+    pressure_source_signal,
     pump,
     relief_valve,
     shuttle_valve,

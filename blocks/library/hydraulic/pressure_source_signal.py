@@ -1,0 +1,23 @@
+"""Ideal pressure source driven by a signal."""
+
+from blocks.block import Block, hydraulic, signal_in
+from blocks.registry import register
+
+
+@register("pressure_source_signal")
+class PressureSourceSignal(Block):
+    """Ideal pressure source driven by a signal: the net at ``port`` is held at p(t) whatever flow it takes.
+
+    p_port = p   [Pa, gauge], p read from the signal input ``p`` (the net has no pressure state of its own)
+
+    A pressure ramp or a measured pressure trace imposed on a circuit (a test rig's supply, a load-sense
+    line). The signal passes straight to the net: a block whose outputs read that net's pressure and feed
+    back into p closes an algebraic loop, which the netlist check reports.
+    """
+
+    ports = (hydraulic("port", "the net held at pressure p"), signal_in("p", "pressure to hold (gauge)", "Pa"))
+    prescribes = ("port",)
+
+    @staticmethod
+    def outputs(p):
+        return (p,)
