@@ -13,7 +13,7 @@ by evaluating the netlist's parameter table with it overridden, so an expression
 
 Derivatives are central differences: state j is moved by h_j = 1e-6 * max(|x_j|, s_j), s_j its nominal
 magnitude (1 bar for a pressure); an input by 1e-6 * |u|, or at u = 0 by 1e-6 of the larger magnitude of
-its declared bounds (1e-6 in SI when it has none). The model holds t fixed at t*: the inputs that are functions of time
+its declared bounds (1e-6 in SI when it has none), one-sided where a step would leave its bounds. The model holds t fixed at t*: the inputs that are functions of time
 (steps, profiles) are held at their values there.
 
 Modes. The eigenvalues lambda_k of A (computed on A scaled by the states' nominal magnitudes,
@@ -178,11 +178,11 @@ def linearise(circuit, point: OperatingPoint, inputs: list[str] | tuple = (),
     D = np.zeros((len(rows), len(inputs)))
     for k, name in enumerate(inputs):
         value = circuit.flat.parameters.evaluate(point.overrides)[name]
-        h = _input_step(circuit, name, value)
-        up = circuit.vectors({**point.overrides, name: value + h}).theta
-        down = circuit.vectors({**point.overrides, name: value - h}).theta
-        B[:, k] = (f(x0, up) - f(x0, down)) / (2.0 * h)
-        D[:, k] = (g(x0, up) - g(x0, down)) / (2.0 * h)
+        low, high = _input_span(circuit, name, value)
+        up = circuit.vectors({**point.overrides, name: high}).theta
+        down = circuit.vectors({**point.overrides, name: low}).theta
+        B[:, k] = (f(x0, up) - f(x0, down)) / (high - low)
+        D[:, k] = (g(x0, up) - g(x0, down)) / (high - low)
     units = {o.name: o.unit for o in circuit.outputs}
     return LinearModel(A, B, C, D, names, _state_units(circuit), nominal, list(inputs),
                        [input_unit(circuit, name) for name in inputs], chosen, [units[o] for o in chosen], point)
@@ -296,13 +296,20 @@ def input_unit(circuit, name: str) -> str:
     return si_name(entry.dims)
 
 
-def _input_step(circuit, name: str, value: float) -> float:
-    """1e-6 of the input's value; at 0, of the larger magnitude of its declared bounds, else of 1 (SI)."""
-    if value != 0.0:
-        return STATE_STEP * abs(value)
+def _input_span(circuit, name: str, value: float) -> tuple[float, float]:
+    """The two values of an input the difference is taken between: value -+ h, h = 1e-6 of the value (at 0,
+    of the larger magnitude of its declared bounds, else of 1 in SI); one-sided (value itself on one end)
+    where a step would leave the declared bounds (an efficiency at 1)."""
     bounds = circuit.flat.parameters.entries[name].bounds
-    ends = [abs(b) for b in (getattr(bounds, "lower", None), getattr(bounds, "upper", None)) if b]
-    return STATE_STEP * (max(ends) if ends else 1.0)
+    lower, upper = getattr(bounds, "lower", None), getattr(bounds, "upper", None)
+    ends = [abs(b) for b in (lower, upper) if b]
+    h = STATE_STEP * (abs(value) if value != 0.0 else max(ends) if ends else 1.0)
+    low, high = value - h, value + h
+    if upper is not None and high > upper:
+        high = value
+    if lower is not None and (low < lower or (low <= lower and getattr(bounds, "positive", False))):
+        low = value
+    return low, high
 
 
 def _integrating(circuit, t, x, overrides, sinks) -> list[str]:

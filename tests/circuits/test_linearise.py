@@ -148,3 +148,11 @@ def test_the_state_of_the_run_at_a_time():
     expected = p_end + (1e5 - p_end) * math.exp(-0.05 / tau)
     assert point.x[c.structure.net_state["P"].index] == pytest.approx(expected, rel=1e-6)
     assert point.t == 0.05 and "t = 0.05 s" in point.how
+
+
+def test_an_input_at_its_bound_is_differenced_one_sided():
+    c = circuit("linear_modes")
+    for g in (100.0, -100.0, -9.81):  # the mass's gravity at its upper and lower bounds, and inside
+        point = operating_point(c, {"load.g_x": g}, c.settings, at=0.0)
+        model = linearise(c, point, ["load.g_x"], ["v"])
+        assert model.B[state_index(model, "rod.v"), 0] == pytest.approx(1.0, rel=1e-6)  # dv/dt = ... + g_x
