@@ -419,13 +419,20 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             raise located.error(path, f"free.{name}: an array parameter cannot be free")
         lower = -np.inf if fs.lower is None else si(name, fs.lower, path + ("lower",))
         upper = np.inf if fs.upper is None else si(name, fs.upper, path + ("upper",))
-        if entry.bounds is not None:
-            if entry.bounds.lower is not None:
-                lower = max(lower, entry.bounds.lower)
-            if entry.bounds.upper is not None:
-                upper = min(upper, entry.bounds.upper)
         unit = display_unit(entry, fs)
-        shown = (lambda v: f"{v / display_factor(unit):g} {unit}".strip()) if unit else (lambda v: f"{v:g} (SI)")
+        shown = ((lambda v: f"{v:g}") if unit == "1" else (lambda v: f"{v / display_factor(unit):g} {unit}".strip())
+                 if unit else (lambda v: f"{v:g} (SI)"))
+        if entry.bounds is not None:  # a block's parameter: bounds beyond its own are refused, not clamped (the
+            own = entry.bounds        # fit would stop at the block's bound while the experiment says another)
+            for key, raw, value, limit, beyond in (("lower", fs.lower, lower, own.lower, "below"),
+                                                   ("upper", fs.upper, upper, own.upper, "above")):
+                if raw is not None and limit is not None and (value < limit if key == "lower" else value > limit):
+                    raise located.error(path + (key,), f"free.{name}: {key} {raw} is {beyond} {name}'s own {key} "
+                                                       f"bound {shown(limit)}")
+            if own.lower is not None:
+                lower = max(lower, own.lower)
+            if own.upper is not None:
+                upper = min(upper, own.upper)
         if not lower < upper:
             raise located.error(path, f"free.{name}: the lower bound {shown(lower)} is not below the upper "
                                 f"{shown(upper)}" + (" (with the netlist's bounds of the parameter)"

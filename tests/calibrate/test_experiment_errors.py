@@ -336,3 +336,19 @@ def test_a_netlist_or_a_misspelt_key_says_what_it_is(tmp_path, capsys):
                                  f"experiment; run it with vphs run"), err
     code, err, path = run(tmp_path, capsys, changed(heldot={"scheme": "kfold"}))
     assert code == 2 and err.endswith("heldot: unknown key 'heldot' (did you mean heldout?)"), err
+
+
+# ---------------------------------------------------------------- a first-user review of vphs calibrate (c_NN: its cases)
+def test_free_bounds_beyond_the_blocks_own_are_refused_not_clamped(tmp_path, capsys):
+    """c_98, c_110: `ret.Cd: {lower: 0.5, upper: 2}` was clamped to the block's [0, 1] without a word (the
+    augmented experiment still said upper: 2), and a start outside read "1.5 1 is outside [0.5 1, 1 1]"."""
+    code, err, path = run(tmp_path, capsys, changed(**{"free": {"ret.Cd": {"initial": 0.8, "lower": 0.5, "upper": 2}}}))
+    assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: free\.ret\.Cd: upper 2 is above "
+                                      r"ret\.Cd's own upper bound 1", err), err
+    code, err, path = run(tmp_path, capsys, changed(**{"free": {"relief.k_s": {"initial": "50 bar",
+                                                                               "lower": "-5 bar"}}}))
+    assert code == 2 and err.endswith("free.relief.k_s: lower -5 bar is below relief.k_s's own lower bound "
+                                      "1e-05 bar"), err
+    code, err, path = run(tmp_path, capsys, changed(**{"free": {"ret.Cd": {"initial": 1.5, "lower": 0.5}}}))
+    assert code == 2 and err.endswith("free.ret.Cd: the start value 1.5 is outside [0.5, 1]"), err  # no unit '1'
+    assert not (tmp_path / "out").exists()
