@@ -474,6 +474,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             ch.trace = trace_parameter(circuit, exact, ch.name, located, spec.netlist)
     exact = [(column, param) for column, param in exact if param not in {c.trace for c in channels}]
     check_values(circuit, overrides, groups, spec, located)
+    check_free_values(circuit, overrides, groups, free, spec, located)
     return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files,
                       exact)
 
@@ -662,6 +663,86 @@ def check_values(circuit, overrides: dict[str, float], groups: dict[str, dict[st
         except (NetlistError, ParameterError) as exc:
             raise located.error(path, f"{path[0]}: with the values of {what} the netlist cannot be evaluated: "
                                       f"{exc}") from None
+
+
+def check_free_values(circuit, overrides: dict[str, float], groups: dict[str, dict[str, float]], free: list[Free],
+                      spec: ExperimentSpec, located: Located) -> None:
+    """The netlist evaluated at each free parameter's start, and at each bound the experiment gives it (the
+    other free parameters at their starts), with the overrides and each group's values (a group's own start
+    of a ``per: group`` parameter): a start or bound that puts a block parameter out of its declared bounds
+    (``A_o: {initial: "-5 mm^2"}`` feeding an orifice's area) is the experiment's error, located at the entry,
+    before any run. It used to run to exit 0 with every run of the fit failing. The fit may go to a bound, so
+    a bound the netlist cannot take is refused too; a bound taken from the block itself is its own."""
+    if not free:
+        return
+    labels = list(groups) + sorted({g for f in free for g in f.starts if g not in groups})
+    for label in labels or [None]:
+        base = {**overrides, **groups.get(label, {})}
+        try:
+            circuit.vectors(base)
+        except (NetlistError, ParameterError):
+            continue  # the netlist's own values (or the group's, refused by check_values) fail: not the free's
+        with_group = f" and the values of group {label}" if len(labels) > 1 else ""
+
+        def problem(values: dict) -> str | None:
+            try:
+                circuit.vectors({**base, **values})
+            except (NetlistError, ParameterError) as exc:
+                return _blamed(getattr(exc, "message", str(exc)), circuit.flat.parameters.entries)
+            return None
+
+        starts = {f.name: f.starts.get(label, f.initial) for f in free}
+        for f in free:
+            fs = spec.free[f.name]
+            start = f.starts.get(label, f.initial)
+            found = problem({f.name: start})
+            if found:
+                own = label is not None and label in f.starts
+                raw = fs.initial[_key_of(fs.initial, label)] if own else fs.initial
+                written = _written(raw, start)
+                raise located.error(("free", f.name) + (("initial", _key_of(fs.initial, label)) if own else
+                                                        ("initial",) if fs.initial is not None else ()),
+                                    f"free.{f.name}: with the start {written}{with_group}, {found}")
+        found = problem(starts)
+        if found:
+            raise located.error(("free",), f"free: with the starts of the free parameters together{with_group}, "
+                                           f"{found}")
+        for f in free:
+            fs = spec.free[f.name]
+            for key, raw, bound in (("lower", fs.lower, f.lower), ("upper", fs.upper, f.upper)):
+                if raw is None or not np.isfinite(bound):
+                    continue
+                found = problem({**starts, f.name: bound})
+                if found:
+                    others = " (the other free parameters at their starts)" if len(free) > 1 else ""
+                    raise located.error(("free", f.name, key), f"free.{f.name}: at its {key} bound "
+                                        f"{_written(raw, bound)}{others}{with_group}, {found}; the fit may go "
+                                        f"there: give {'a lower' if key == 'lower' else 'an upper'} bound the netlist "
+                                        f"can take")
+
+
+def _key_of(mapping, label: str):
+    """The key of ``mapping`` (a per-group start as written: 1 or "1") that is the group ``label``."""
+    return next(k for k in mapping if str(k) == label)
+
+
+def _written(raw, value: float) -> str:
+    """A value as the experiment wrote it ("-5 mm^2"), else as a number."""
+    return raw.strip() if isinstance(raw, str) else f"{value:g}"
+
+
+def _blamed(message: str, entries) -> str:
+    """A block's complaint about a value, with the parameter qualified: 'orif: A = -5e-06 m^2 is below ...'
+    -> 'orif.A = -5e-06 m^2 is below ...' (an override's 'override orif.Cd: Cd = 2 ...' likewise)."""
+    import re
+
+    m = re.match(r"^(?:override \S+: )?(?P<comp>[\w.]+): (?P<param>\w+) = ", message)
+    if m and f"{m['comp']}.{m['param']}" in entries:
+        return f"{m['comp']}.{m['param']} = " + message[m.end():]
+    m = re.match(r"^override (?P<name>\S+): (?P<param>\w+) = ", message)
+    if m and m["name"].endswith("." + m["param"]):
+        return f"{m['name']} = " + message[m.end():]
+    return message
 
 
 def is_signal_level(table, name: str) -> bool:

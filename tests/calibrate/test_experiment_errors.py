@@ -352,3 +352,40 @@ def test_free_bounds_beyond_the_blocks_own_are_refused_not_clamped(tmp_path, cap
     code, err, path = run(tmp_path, capsys, changed(**{"free": {"ret.Cd": {"initial": 1.5, "lower": 0.5}}}))
     assert code == 2 and err.endswith("free.ret.Cd: the start value 1.5 is outside [0.5, 1]"), err  # no unit '1'
     assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("free, pattern", [
+    ({"A_ret": {"initial": "-5 mm^2", "lower": "-10 mm^2", "upper": "100 mm^2"}},
+     r"free\.A_ret: with the start -5 mm\^2, ret\.A = -5e-06 m\^2 is below its lower bound 0 m\^2"),
+    ({"A_ret": {"initial": "8 mm^2", "lower": "-5 mm^2", "upper": "100 mm^2"}},
+     r"free\.A_ret: at its lower bound -5 mm\^2, ret\.A = -5e-06 m\^2 is below its lower bound 0 m\^2; the fit "
+     r"may go there: give a lower bound the netlist can take"),
+    ({"k_s": {"initial": "50 bar", "lower": "5 bar", "upper": "500 bar"},
+      "R_meter": {"initial": "4e8 Pa*s/m^3", "lower": "-1e9 Pa*s/m^3"}},
+     r"free\.R_meter: at its lower bound -1e9 Pa\*s/m\^3 \(the other free parameters at their starts\), meter\.G = "
+     r"-1e-09 m\^3/\(s\*Pa\) is below its lower bound 0 m\^3/\(s\*Pa\); the fit may go there: .*"),
+], ids=["start", "lower bound", "lower bound of a second"])
+def test_a_free_start_or_bound_that_puts_a_block_parameter_out_of_its_bounds_is_refused(tmp_path, capsys, free,
+                                                                                         pattern):
+    """c_96: `A_o: {initial: "-5 mm^2"}` feeding an orifice's area ran to exit 0, every run of the fit failing
+    ("the final fit's runs fail ... not identifiable"); c_52: a negative lower bound was accepted silently."""
+    code, err, path = run(tmp_path, capsys, changed(free=free))
+    assert code == 2 and "\n" not in err and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: {pattern}", err), err
+    line = int(err.split(":")[2])  # at the entry that is wrong
+    key = "initial" if "with the start" in err else "lower"
+    assert path.read_text().splitlines()[line - 1].lstrip().startswith(key + ":"), err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_free_start_is_checked_with_each_groups_values(tmp_path, capsys):
+    """A per-group start, and each group's own values, are what the netlist is evaluated with."""
+    spec = changed(free={"A_ret": {"initial": {"1": "8 mm^2", "2": "-1 mm^2"}, "per": "group"}},
+                   groups={"1": {"p_set": "30 bar"}, "2": {"p_set": "45 bar"}})
+    code, err, path = run(tmp_path, capsys, spec, data=DATA + "2,20,40\n2,40,50\n")
+    assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: free\.A_ret: with the start -1 mm\^2 "
+                                      r"and the values of group 2, ret\.A = -1e-06 m\^2 is below its lower bound "
+                                      r"0 m\^2", err), err
+    spec = changed(free={"k_s": {"initial": "50 bar", "lower": "5 bar", "upper": "500 bar"}},
+                   groups={"1": {"p_set": "30 bar"}, "2": {"p_set": "45 bar", "A_ret": "-1 mm^2"}})
+    code, err, path = run(tmp_path, capsys, spec, data=DATA + "2,20,40\n2,40,50\n")
+    assert code == 2 and "groups: with the values of group 2 the netlist cannot be evaluated" in err, err  # as before
