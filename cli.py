@@ -494,10 +494,13 @@ def cmd_calibrate(args) -> int:
         if not args.quiet:
             print(f"vphs: {message}", file=sys.stderr, flush=True)
 
+    def warn(message: str) -> None:  # what changes how the results read: said even with -q
+        print(f"vphs: warning: {message}", file=sys.stderr, flush=True)
+
     exp = load_experiment(args.experiment)
     refuse_to_overwrite_inputs(exp, out)  # before the previous run's files are moved aside: they may be inputs
     with replacing(out):  # the previous run's files are put back if this one fails or is interrupted
-        cal = calibrate(exp, out, progress=say)
+        cal = calibrate(exp, out, progress=say, warn=warn)
         paths = write(cal, out)
     for line in cal.verdict:
         print(line)

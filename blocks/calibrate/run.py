@@ -102,16 +102,21 @@ class Calibration:
 
 
 def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=None, rounds: int | None = None,
-              with_heldout: bool = True) -> Calibration:
+              with_heldout: bool = True, warn=None) -> Calibration:
+    """``progress``: a line at each step (``vphs calibrate`` prints them unless -q); ``warn``: a line about what
+    the data allow (few degrees of freedom: :func:`degrees_of_freedom`), printed even with -q."""
     say = progress or (lambda message: None)
     clock = time.perf_counter()
     exp = experiment if isinstance(experiment, Experiment) else load_experiment(experiment)
     out = Path(out)
     refuse_to_overwrite_inputs(exp, out)
     data = load_data(exp)
-    scheme = folds_of(data, exp.spec.heldout)[0] if with_heldout else ""
+    scheme, folds = folds_of(data, exp.spec.heldout) if with_heldout else ("", [])
     cal = Calibration(exp, data, out)
     globals_ = per_group_globals(exp, data) + latent_globals(exp, data, cal.held_levels)
+    few = degrees_of_freedom(exp, data, globals_, folds if with_heldout else None)
+    if few:
+        (warn or say)(few)
     netlist = exp.netlist
     x_prev: np.ndarray | None = None
     prev_model: Model | None = None
@@ -180,9 +185,43 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         j = cal.final.model.layout.index(param)
         cal.accepted[k] = (key, title, where, param, float(cal.final.fit.x[j]), float(cal.final.fit.se[j]), unit)
     cal.verdict, cal.unexplained = verdict(cal)
+    if few:
+        cal.verdict.insert(0, few)
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
+
+
+FEW_DEGREES = 5  # below this many degrees of freedom a calibration is run, with a warning: its tests can hardly fail
+
+
+def degrees_of_freedom(exp: Experiment, data: Dataset, globals_: list[Free], folds: list | None) -> str:
+    """The declared fit's degrees of freedom, nu = readings - unknowns (every measured column at every point or
+    sample; the fitted parameters and, for steady points, each point's true input values): an error when none
+    is left (nu <= 0: the fit is exact whatever the model, chi^2 = 0, and no test can say anything) or when the
+    data make fewer than 2 held-out folds (a refit without the only fold has nothing to fit); with few (nu <
+    FEW_DEGREES) a warning, returned: the lack-of-fit and held-out tests then have almost no power."""
+    inputs = [c for c in exp.inputs if c.parameter is not None] if data.kind == "steady" else []
+    readings = data.n * len(exp.channels)
+    latent = data.n * len(inputs)
+    unknowns = len(globals_) + latent
+    nu = readings - unknowns
+    what = "point" if data.kind == "steady" else "sample"
+    counted = (f"{readings} readings ({data.n} {what}{'s' * (data.n != 1)} x {len(exp.channels)} columns: "
+               f"{', '.join(c.name for c in exp.channels)}) and {unknowns} unknowns ({len(globals_)} fitted "
+               f"parameter{'s' * (len(globals_) != 1)}" + (f", {latent} true input value{'s' * (latent != 1)}, one "
+                                                            f"per point and imposed input" if latent else "") + ")")
+    if nu <= 0:
+        raise exp.error(("data",), f"data: {counted}: nu = {nu}, no degree of freedom is left to test the fit with "
+                                   f"(it would be exact whatever the model); more {what}s are needed")
+    if folds is not None and len(folds) < 2:
+        raise exp.error(("heldout",) if "heldout" in exp.spec.model_fields_set else ("data",),
+                        f"heldout: the data ({data.n} {what}{'s' * (data.n != 1)}) make {len(folds)} held-out fold; "
+                        f"the held-out test refits without each fold and needs 2 at least; more {what}s are needed")
+    if nu < FEW_DEGREES:
+        return (f"only nu = {nu} degree{'s' * (nu != 1)} of freedom ({counted}): the lack-of-fit and held-out tests "
+                f"have almost no power, and what they find says little; more {what}s are needed to test the model")
+    return ""
 
 
 def write_calibrated(cal: Calibration) -> Path | None:

@@ -389,3 +389,49 @@ def test_a_free_start_is_checked_with_each_groups_values(tmp_path, capsys):
                    groups={"1": {"p_set": "30 bar"}, "2": {"p_set": "45 bar", "A_ret": "-1 mm^2"}})
     code, err, path = run(tmp_path, capsys, spec, data=DATA + "2,20,40\n2,40,50\n")
     assert code == 2 and "groups: with the values of group 2 the netlist cannot be evaluated" in err, err  # as before
+
+
+def test_data_that_leave_no_degree_of_freedom_are_refused(tmp_path, capsys):
+    """c_82: one point (3 readings, 3 unknowns) was "calibrated": chi^2 = 1e-25 "on nu = 1" (nu clamped), a
+    "1-fold" held-out that trained on nothing, and the verdict "fits to the noise"."""
+    code, err, path = run(tmp_path, capsys, GOOD, data="setting,Q [l/min],p1 [bar]\n1,20,40\n")
+    assert code == 2 and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: data: 2 readings \(1 point x 2 columns: Q, p1\) and 2 unknowns "
+        r"\(1 fitted parameter, 1 true input value, one per point and imposed input\): nu = 0, no degree of freedom "
+        r"is left to test the fit with \(it would be exact whatever the model\); more points are needed", err), err
+    assert not (tmp_path / "out").exists()
+
+
+def test_one_sample_makes_one_held_out_fold_and_is_refused(tmp_path, capsys):
+    code, err, path = run(tmp_path, capsys, SERIES, data="t [s],cmd [1],pA [bar]\n0,0,20\n")
+    assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: heldout: the data \(1 sample\) make 1 "
+                                      r"held-out fold; the held-out test refits without each fold and needs 2 at "
+                                      r"least; more samples are needed", err), err
+
+
+def test_few_degrees_of_freedom_are_warned_of_even_when_quiet(tmp_path, capsys):
+    """Two points, one free parameter: nu = 1. Run, but said on stderr (even with -q) and in the verdict."""
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(GOOD))
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "out"), "-q"])
+    captured = capsys.readouterr()
+    warning = ("only nu = 1 degree of freedom (4 readings (2 points x 2 columns: Q, p1) and 3 unknowns (1 fitted "
+               "parameter, 2 true input values, one per point and imposed input)): the lack-of-fit and held-out "
+               "tests have almost no power, and what they find says little; more points are needed to test the model")
+    assert code == 0 and f"vphs: warning: {warning}" in captured.err.splitlines(), captured.err
+    assert captured.out.splitlines()[0] == warning, captured.out
+
+
+def test_no_effect_is_accepted_that_leaves_no_degree_of_freedom(tmp_path):
+    """Two points, nu = 1: a sensor gain on p1 took the last degree of freedom (chi^2 79.5 -> 4e-23, reported
+    "on nu = 1" as the clamp had it) and was accepted: an exact fit that no test can judge."""
+    from blocks.calibrate.run import calibrate
+
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(changed(free={"ret.Cd": {"initial": 0.8, "lower": 0.5,
+                                                                                "upper": 1}})))
+    cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out")
+    assert not cal.accepted and cal.final.fit.n - cal.final.fit.p == 1
+    gain = next(rf for rf in cal.rounds[0].decision.refits if rf.score.place.key == "sensor_gain@p1")
+    assert gain.dbic < -10 and gain.reasons == ["no degree of freedom left beside it (4 readings, 4 unknowns)"]
+    assert cal.verdict[-1].startswith("unexplained discrepancy remains")
