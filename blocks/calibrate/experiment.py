@@ -166,6 +166,7 @@ class Channel:
     unit: str = ""  # the data column's unit (for reports)
     si_unit: str = ""  # the SI unit of its dimension ("1": dimensionless; "": not known, see channel_unit)
     trace: str | None = None  # latent: trace: the profile's values parameter that reads this column
+    written: str = ""  # the unit the netlist writes the channel in ('l/min' for Q_in: "40 l/min"; '': not known)
 
     @property
     def place(self) -> str:
@@ -356,6 +357,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 raise located.error(path, f"outputs.{name}: an output takes 'signal' and 'noise' only")
             channel = Channel(name, role, ch.signal, ch.parameter, levels, None, "given",
                               si_unit=channel_unit(ch, levels, circuit.flat.parameters, signals))
+            channel.written = written_unit(channel, entries, signals)
             if isinstance(ch.noise, str) and ch.noise.strip() in ("repeats", "diff"):
                 channel.noise_method = ch.noise.strip()
             else:
@@ -563,6 +565,24 @@ def channel_unit(ch: ChannelSpec, levels: list[str], table, signals: dict) -> st
         return si_name(found[0])
     dims = table.dimension(ch.parameter)
     return "" if dims is None else si_name(dims)
+
+
+def written_unit(channel: Channel, entries: dict, signals: dict) -> str:
+    """The unit the netlist writes a channel in, to suggest for a data column written without one: the logged
+    signal's display unit (``p1: {of: P1, unit: bar}``), the unit the imposed parameter is written in
+    (``Q_in: "40 l/min"``), else the SI unit of the channel's dimension ('' where that is not known either)."""
+    if channel.si_unit in ("", GENERIC):
+        return ""
+    found = [signals[channel.signal].display_unit] if channel.signal is not None else []
+    if channel.parameter is not None:
+        found.append(display_unit(entries[channel.parameter]))
+    for text in found:
+        try:
+            if text and parse_unit(text).same_dimension(parse_unit(channel.si_unit)):
+                return text
+        except UnitError:
+            continue
+    return channel.si_unit
 
 
 def unit_problem(unit_text: str, channel: Channel, subject: str = "it", place: str | None = None) -> str | None:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -435,3 +436,43 @@ def test_no_effect_is_accepted_that_leaves_no_degree_of_freedom(tmp_path):
     gain = next(rf for rf in cal.rounds[0].decision.refits if rf.score.place.key == "sensor_gain@p1")
     assert gain.dbic < -10 and gain.reasons == ["no degree of freedom left beside it (4 readings, 4 unknowns)"]
     assert cal.verdict[-1].startswith("unexplained discrepancy remains")
+
+
+UNGROUPED = {k: v for k, v in GOOD.items() if k not in ("group", "groups")}
+
+
+def test_the_repeats_column_may_go_without_a_unit_and_without_a_grouping_column(tmp_path, capsys):
+    """c_100: `repeats: point` as the README documents it, with no group: column, was refused: "column 'point':
+    has no unit; name it as the experiment's 'group:' or give it a unit"."""
+    from blocks.calibrate.data import load_data
+    from blocks.calibrate.experiment import load_experiment
+
+    spec = dict(UNGROUPED, repeats="point", outputs={"p1": {"signal": "p1", "noise": "repeats"}})
+    (tmp_path / "data.csv").write_text("point,Q [l/min],p1 [bar]\n1,20,40\n1,20.1,40.2\n2,40,50\n2,40.2,50.4\n")
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec))
+    data = load_data(load_experiment(tmp_path / "exp.yaml"))
+    assert list(data.repeat_ids) == [1, 1, 2, 2] and data.labels == ["all"] * 4
+    assert data.sigma["p1"] == pytest.approx(np.sqrt((0.1 ** 2 * 2 + 0.2 ** 2 * 2) / 2) * 1e5)
+    # another column without unit, and no group: the message names both keys that allow one
+    code, err, _ = run(tmp_path, capsys, spec, data="point,setting,Q [l/min],p1 [bar]\n1,a,20,40\n1,a,20,40.2\n")
+    assert code == 2 and re.search(r"data\.csv:1:2: column 'setting' has no unit; name it as the experiment's "
+                                   r"'group:' \(the grouping column\) or 'repeats:' \(the column that numbers "
+                                   r"repeated points\), or give it a unit$", err), err
+
+
+@pytest.mark.parametrize("data, pattern", [
+    ("Q,p1,p2\n20,40,1\n40,50,2\n", r"data\.csv:1:1: column 'Q' has no unit: write 'Q \[l/min\]' \(it is imposed as "
+                                    r"Q_in, a flow\)$"),
+    ("Q [l/min],p1,p2\n20,40,1\n40,50,2\n", r"data\.csv:1:2: column 'p1' has no unit: write 'p1 \[bar\]' \(it is "
+                                            r"compared with the signal p1, a pressure\)$"),
+])
+def test_a_header_without_units_names_the_first_column_and_the_unit_expected(tmp_path, capsys, data, pattern):
+    """c_17: header `Q,p1,p2` said "column 'p1' has no unit in brackets; only one column (the grouping column,
+    here 'Q') may go without": the wrong column, and no word of the unit the experiment expects."""
+    code, err, _ = run(tmp_path, capsys, UNGROUPED, data=data)
+    assert code == 2 and "\n" not in err and re.search(pattern, err), err
+
+
+def test_a_time_column_without_unit_says_it_is_the_times(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, SERIES, data="t,cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
+    assert code == 2 and re.search(r"data\.csv:1:1: column 't' has no unit: write 't \[s\]'", err), err
