@@ -322,6 +322,11 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     for role, table in (("input", spec.inputs), ("output", spec.outputs)):
         for name, ch in table.items():
             path = (f"{role}s", name)
+            if role == "output" and ch.parameter is not None:
+                raise located.error(path + ("parameter",), f"outputs.{name}: 'parameter' is for inputs (a value set "
+                                    f"per point); an output is compared with a logged signal: "
+                                    + ("give signal: <name> instead" if ch.signal is None else "leave it out")
+                                    + f" (logged in {spec.netlist}: {', '.join(signals)})")
             if role == "output" and ch.signal is None:
                 raise located.error(path, f"outputs.{name}: missing 'signal' (the logged signal it is compared with)")
             if role == "input" and (ch.signal is None) == (ch.parameter is None):
@@ -342,6 +347,11 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 raise located.error(path + ("latent",), f"{role}s.{name}.latent: 'trace' is for the recorded input "
                                     f"of a time series (given by 'signal'), not a steady point's 'parameter'")
             levels = [] if isinstance(ch.latent, str) else list(ch.latent)
+            if levels and ch.parameter is not None:
+                raise located.error(path + ("latent",), f"{role}s.{name}.latent: [{', '.join(levels)}] is for the "
+                                    f"command levels of a time series (an input given by 'signal'); a steady input "
+                                    f"is set point by point through 'parameter' ({ch.parameter}), its true value at "
+                                    f"each point fitted already: leave latent out")
             if isinstance(ch.latent, list) and not levels and "latent" in ch.model_fields_set:
                 raise located.error(path + ("latent",), f"{role}s.{name}.latent: lists no level; give the netlist "
                                     f"parameters of its levels (e.g. [u1, u2]) or 'trace', or leave it out")

@@ -476,3 +476,25 @@ def test_a_header_without_units_names_the_first_column_and_the_unit_expected(tmp
 def test_a_time_column_without_unit_says_it_is_the_times(tmp_path, capsys):
     code, err, _ = run(tmp_path, capsys, SERIES, data="t,cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
     assert code == 2 and re.search(r"data\.csv:1:1: column 't' has no unit: write 't \[s\]'", err), err
+
+
+def test_latent_levels_on_a_steady_input_say_what_latent_is_for(tmp_path, capsys):
+    """c_69: `Q: {parameter: Q_in, latent: [Q_in]}` said "... so it is not a level of the command 'None'"."""
+    spec = changed(**{"inputs": {"Q": {"parameter": "Q_in", "latent": ["Q_in"], "noise": "0.5 l/min"}}})
+    code, err, path = run(tmp_path, capsys, spec)
+    assert code == 2 and "None" not in err and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: inputs\.Q\.latent: \[Q_in\] is for the command levels of a time "
+        r"series \(an input given by 'signal'\); a steady input is set point by point through 'parameter' \(Q_in\), "
+        r"its true value at each point fitted already: leave latent out", err), err
+
+
+def test_an_output_given_a_parameter_says_outputs_are_signals(tmp_path, capsys):
+    """c_72: `p2: {parameter: A_o, noise: ...}` under outputs said "outputs.p2: missing 'signal'"."""
+    spec = changed(**{"outputs": {"p1": {"signal": "p1", "noise": "0.2 bar"},
+                                  "p2": {"parameter": "A_ret", "noise": "0.2 bar"}}})
+    code, err, path = run(tmp_path, capsys, spec)
+    assert code == 2 and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: outputs\.p2: 'parameter' is for inputs \(a value set per point\); an "
+        r"output is compared with a logged signal: give signal: <name> instead \(logged in .*relief_rig\.yaml: p1, "
+        r"p3, p2, u\)", err), err
+    assert path.read_text().splitlines()[int(err.split(":")[2]) - 1].lstrip().startswith("parameter:")
