@@ -498,3 +498,21 @@ def test_an_output_given_a_parameter_says_outputs_are_signals(tmp_path, capsys):
         r"output is compared with a logged signal: give signal: <name> instead \(logged in .*relief_rig\.yaml: p1, "
         r"p3, p2, u\)", err), err
     assert path.read_text().splitlines()[int(err.split(":")[2]) - 1].lstrip().startswith("parameter:")
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs /proc, where no folder can be made")
+def test_an_output_folder_that_cannot_be_created_is_refused_before_any_work(tmp_path, capsys):
+    """-o /proc/calout said "vphs: /proc/calout: No such file or directory", exit 1 (an internal error's)."""
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(GOOD))
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", "/proc/vphs_calout/sub"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err == ("vphs: output folder '/proc/vphs_calout/sub': cannot be created (No such file or "
+                                 "directory); give another folder (-o)"), err
+
+
+def test_probing_the_output_folder_leaves_nothing_when_the_input_is_bad(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, changed(outputs=None))
+    assert code == 2 and not (tmp_path / "out").exists()
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "a" / "b" / "out")])
+    assert code == 2 and not (tmp_path / "a").exists()
