@@ -288,14 +288,14 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     base = Path(file).parent
     netlist = (base / spec.netlist).resolve()
     if not netlist.is_file():
-        raise located.error(("netlist",), f"netlist: file not found: {spec.netlist}")
+        raise located.error(("netlist",), f"netlist: file not found: {spec.netlist}" + _looked_for(spec.netlist, netlist))
     names = [spec.data] if isinstance(spec.data, str) else list(spec.data)
     data_files = []
     for k, name in enumerate(names):
         path = (base / name).resolve()
         where = ("data",) if isinstance(spec.data, str) else ("data", k)
         if not path.is_file():
-            raise located.error(where, f"data: file not found: {name}")
+            raise located.error(where, f"data: file not found: {name}" + _looked_for(name, path))
         if path in data_files:
             raise located.error(where, f"data: {name} is listed twice (its points would count twice)")
         data_files.append(path)
@@ -491,6 +491,13 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                       exact)
 
 
+def _looked_for(written: str, path: Path) -> str:
+    """Where a file named in the experiment was looked for, when that is not what was written."""
+    if Path(written).is_absolute():
+        return ""
+    return f" (looked for {path}: paths in an experiment file are relative to its folder)"
+
+
 def trace_parameter(circuit, exact: list[tuple[str, str]], column: str, located: Located, netlist: str) -> str:
     """The ``values`` parameter of the profile block that reads the data column of a ``latent: trace`` input
     (:mod:`blocks.calibrate.latent_trace`); an error at the input if the netlist reads it nowhere else."""
@@ -536,6 +543,9 @@ def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> No
     if spec.group is None:
         raise located.error(("group_table",), "group_table: needs 'group' (the grouping column)")
     path = (base / gt.file).resolve()
+    if not path.is_file():
+        raise located.error(("group_table", "file"), f"group_table.file: file not found: {gt.file}"
+                            + _looked_for(gt.file, path))
     try:
         table = read_table(path, group=spec.group)
     except DataFileError:

@@ -516,3 +516,18 @@ def test_probing_the_output_folder_leaves_nothing_when_the_input_is_bad(tmp_path
     assert code == 2 and not (tmp_path / "out").exists()
     code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "a" / "b" / "out")])
     assert code == 2 and not (tmp_path / "a").exists()
+
+
+@pytest.mark.parametrize("key, edit", [
+    ("netlist", {"netlist": "netlists/experiments/circuits/relief_rig.yaml"}),
+    ("data", {"data": "data/points.csv"}),
+    ("group_table.file", {"group_table": {"file": "crack.csv", "columns": {"crack": "p_set"}}, "groups": None}),
+])
+def test_a_file_not_found_says_where_it_was_looked_for(tmp_path, capsys, key, edit):
+    """c_105: a repository-relative netlist path in an experiment under netlists/experiments/ said only
+    "netlist: file not found: netlists/experiments/circuits/relief_rig.yaml"."""
+    code, err, path = run(tmp_path, capsys, changed(**edit))
+    written = next(v if isinstance(v, str) else v["file"] for v in edit.values() if v is not None)
+    assert code == 2 and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: {re.escape(key)}: file not found: {re.escape(written)} \(looked for "
+        rf"{re.escape(str(tmp_path / written))}: paths in an experiment file are relative to its folder\)", err), err
