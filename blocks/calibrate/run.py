@@ -39,7 +39,7 @@ from blocks.calibrate.elimination import Removal, try_removals
 from blocks.calibrate.exchange import Exchange, file_name, free_of, try_exchanges
 from blocks.calibrate.experiment import Experiment, Free, display_unit, load_experiment
 from blocks.calibrate.fit import FitResult, fit
-from blocks.calibrate.heldout import HeldOut, folds_of, heldout
+from blocks.calibrate.heldout import HeldOut, fallbacks, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
@@ -115,8 +115,9 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     cal = Calibration(exp, data, out)
     globals_ = per_group_globals(exp, data) + latent_globals(exp, data, cal.held_levels)
     few = degrees_of_freedom(exp, data, globals_, folds if with_heldout else None)
-    if few:
-        (warn or say)(few)
+    warnings = [few] * bool(few) + drift_untested(exp, data)  # said after the first fit (see below)
+    if with_heldout and warn:  # the held-out test run other than asked (without warn: said as progress)
+        warnings += fallbacks(data, exp.spec.heldout, exp.spec.group is not None)
     netlist = exp.netlist
     x_prev: np.ndarray | None = None
     prev_model: Model | None = None
@@ -128,8 +129,10 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
             f"({stage.model.simulations} runs, {time.perf_counter() - t0:.1f} s)")
         if k == 1:
             cal.initial = stage
-            if "(" in scheme:  # not the scheme asked for, or fewer folds than asked (after the first fit: a bad
-                say(f"held out: {scheme}")  # input found there must be the one line printed)
+            if "(" in scheme and not warn:  # not the scheme asked for, or fewer folds than asked (after the first
+                say(f"held out: {scheme}")  # fit: a bad input found there must be the one line printed)
+            for line in warnings:  # vphs calibrate: said even with -q (the held-out fallbacks among them)
+                (warn or say)(line)
         t1 = time.perf_counter()
         rnd = trace_round(k, stage, exp, data, globals_, out, with_heldout)
         stage, rnd = restart_if_short(cal, k, stage, rnd, netlist, globals_, with_heldout, say)
@@ -190,6 +193,18 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
+
+
+def drift_untested(exp: Experiment, data: Dataset) -> list[str]:
+    """A warning when ``drift:`` names parameters but the data have one group (or run): nothing to refit them
+    per group against, so the drift test is not made."""
+    if not exp.spec.drift or len(data.groups) >= 2:
+        return []
+    kind = "group" if data.kind == "steady" else "run"
+    return [f"drift: {', '.join(exp.spec.drift)} would be refitted per {kind} to test that "
+            f"{'it stays' if len(exp.spec.drift) == 1 else 'they stay'} constant, but the data have one {kind}"
+            + (" (no grouping column)" if exp.spec.group is None and data.kind == "steady" else "")
+            + ": drift is not tested"]
 
 
 FEW_DEGREES = 5  # below this many degrees of freedom a calibration is run, with a warning: its tests can hardly fail

@@ -531,3 +531,46 @@ def test_a_file_not_found_says_where_it_was_looked_for(tmp_path, capsys, key, ed
     assert code == 2 and re.fullmatch(
         rf"vphs: {re.escape(str(path))}:\d+:\d+: {re.escape(key)}: file not found: {re.escape(written)} \(looked for "
         rf"{re.escape(str(tmp_path / written))}: paths in an experiment file are relative to its folder\)", err), err
+
+
+def test_held_out_fallbacks_are_named_as_warnings():
+    """c_13, c_109, c_33: leave_one_group_out on one group, leave_one_experiment_out on one file and k = 40 on
+    24 points ran as something else, exit 0, with only a parenthesis in report.md to say so."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.experiment import HeldOutSpec
+    from blocks.calibrate.heldout import fallbacks
+
+    one = SimpleNamespace(kind="steady", n=24, groups={"1": list(range(24))}, labels=["1"] * 24, sources=None)
+    assert fallbacks(one, HeldOutSpec(scheme="leave_one_group_out")) == [
+        "heldout: leave_one_group_out needs 2 groups or more, the data have 1: 5-fold over points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="leave_one_group_out"), grouped=False) == [
+        "heldout: leave_one_group_out needs 2 groups or more, the data have 1 (no grouping column): 5-fold over "
+        "points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="leave_one_experiment_out")) == [
+        "heldout: leave_one_experiment_out needs 2 data files or more, the data have 1: 5-fold over points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="kfold", k=40)) == [
+        "heldout: k = 40 is more than the 24 points: 24-fold over points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="kfold", k=4)) == []
+    files = SimpleNamespace(kind="steady", n=6, groups={"all": list(range(6))}, labels=["all"] * 6,
+                            sources=["a", "a", "b", "b", "c", "c"])
+    assert fallbacks(files, HeldOutSpec(scheme="kfold_experiments", k=5)) == [
+        "heldout: k = 5 is more than the 3 data files: leave one experiment out instead"]
+    assert fallbacks(files, HeldOutSpec(scheme="kfold_experiments")) == []  # the default k, cut: not asked for
+    run1 = SimpleNamespace(kind="time", n=50, groups={"all": list(range(50))}, labels=["all"] * 50, sources=None)
+    assert fallbacks(run1, HeldOutSpec(scheme="leave_one_group_out")) == [
+        "heldout: leave_one_group_out needs 2 runs or more, the data have 1: 5 contiguous blocks of the time series "
+        "instead"]
+
+
+def test_held_out_fallback_and_untested_drift_are_warned_of_even_when_quiet(tmp_path, capsys):
+    """c_13 and c_86 (drift: with one group): said on stderr with -q, since they change what the tests mean."""
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(changed(drift=["k_s"])))
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "out"), "-q"])
+    lines = capsys.readouterr().err.splitlines()
+    assert code == 0
+    assert "vphs: warning: heldout: leave_one_group_out needs 2 groups or more, the data have 1: 2-fold over points " \
+           "instead" in lines, lines
+    assert "vphs: warning: drift: k_s would be refitted per group to test that it stays constant, but the data have " \
+           "one group: drift is not tested" in lines, lines
