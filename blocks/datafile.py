@@ -279,5 +279,7 @@ def _number(file: str, line_no: int, col: int, header: str, cell: str) -> float:
     except ValueError:
         value = None
     if value is None or not math.isfinite(value):
-        raise DataFileError(file, f"column '{header}': '{cell}' is not a number", line_no, col)
+        hint = " (a decimal comma? numbers are read with a '.')" if _is_number(cell.replace(",", ".", 1)) \
+            and "," in cell else ""
+        raise DataFileError(file, f"column '{header}': '{cell}' is not a number{hint}", line_no, col)
     return value

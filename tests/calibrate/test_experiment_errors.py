@@ -574,3 +574,15 @@ def test_held_out_fallback_and_untested_drift_are_warned_of_even_when_quiet(tmp_
            "instead" in lines, lines
     assert "vphs: warning: drift: k_s would be refitted per group to test that it stays constant, but the data have " \
            "one group: drift is not tested" in lines, lines
+
+
+def test_a_quoted_decimal_comma_is_named_as_one(tmp_path):
+    """c_87: '"5,0004"' said only "'5,0004' is not a number"."""
+    path = tmp_path / "points.csv"
+    path.write_text('Q [l/min],p1 [bar]\n"5,0004","2,3120"\n')
+    with pytest.raises(DataFileError, match=r"points\.csv:2:1: column 'Q \[l/min\]': '5,0004' is not a number "
+                                            r"\(a decimal comma\? numbers are read with a '\.'\)$"):
+        read_table(path)
+    path.write_text('Q [l/min],p1 [bar]\n"5,x",2\n')
+    with pytest.raises(DataFileError, match=r"'5,x' is not a number$"):  # no comma to blame
+        read_table(path)
