@@ -114,24 +114,27 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     scheme, folds = folds_of(data, exp.spec.heldout) if with_heldout else ("", [])
     cal = Calibration(exp, data, out)
     globals_ = per_group_globals(exp, data) + latent_globals(exp, data, cal.held_levels)
-    few = degrees_of_freedom(exp, data, globals_, folds if with_heldout else None)
-    warnings = [few] * bool(few) + drift_untested(exp, data)  # said after the first fit (see below)
+    warnings = drift_untested(exp, data)  # said after the first fit (see below)
     if with_heldout and warn:  # the held-out test run other than asked (without warn: said as progress)
         warnings += fallbacks(data, exp.spec.heldout, exp.spec.group is not None)
+    few = []  # the first model's degrees of freedom, when few (checked once it is built, before its fit)
+
+    def count(model: Model) -> None:
+        few[:] = [line for line in [degrees_of_freedom(exp, data, model, folds if with_heldout else None)] if line]
     netlist = exp.netlist
     x_prev: np.ndarray | None = None
     prev_model: Model | None = None
     n_rounds = rounds or exp.spec.trace.rounds
     for k in range(1, n_rounds + 1):
         t0 = time.perf_counter()
-        stage = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
+        stage = fit_stage(netlist, exp, data, globals_, x_prev, prev_model, before_fit=count if k == 1 else None)
         say(f"round {k}: fitted {len(globals_)} parameters, chi^2/nu = {stage.lof.reduced:.3g} "
             f"({stage.model.simulations} runs, {time.perf_counter() - t0:.1f} s)")
         if k == 1:
             cal.initial = stage
             if "(" in scheme and not warn:  # not the scheme asked for, or fewer folds than asked (after the first
                 say(f"held out: {scheme}")  # fit: a bad input found there must be the one line printed)
-            for line in warnings:  # vphs calibrate: said even with -q (the held-out fallbacks among them)
+            for line in few + warnings:  # vphs calibrate: said even with -q (the held-out fallbacks among them)
                 (warn or say)(line)
         t1 = time.perf_counter()
         rnd = trace_round(k, stage, exp, data, globals_, out, with_heldout)
@@ -188,8 +191,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         j = cal.final.model.layout.index(param)
         cal.accepted[k] = (key, title, where, param, float(cal.final.fit.x[j]), float(cal.final.fit.se[j]), unit)
     cal.verdict, cal.unexplained = verdict(cal)
-    if few:
-        cal.verdict.insert(0, few)
+    cal.verdict[:0] = few
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
@@ -210,16 +212,16 @@ def drift_untested(exp: Experiment, data: Dataset) -> list[str]:
 FEW_DEGREES = 5  # below this many degrees of freedom a calibration is run, with a warning: its tests can hardly fail
 
 
-def degrees_of_freedom(exp: Experiment, data: Dataset, globals_: list[Free], folds: list | None) -> str:
-    """The declared fit's degrees of freedom, nu = readings - unknowns (every measured column at every point or
-    sample; the fitted parameters and, for steady points, each point's true input values): an error when none
-    is left (nu <= 0: the fit is exact whatever the model, chi^2 = 0, and no test can say anything) or when the
-    data make fewer than 2 held-out folds (a refit without the only fold has nothing to fit); with few (nu <
-    FEW_DEGREES) a warning, returned: the lack-of-fit and held-out tests then have almost no power."""
-    inputs = [c for c in exp.inputs if c.parameter is not None] if data.kind == "steady" else []
-    readings = data.n * len(exp.channels)
-    latent = data.n * len(inputs)
-    unknowns = len(globals_) + latent
+def degrees_of_freedom(exp: Experiment, data: Dataset, model: Model, folds: list | None) -> str:
+    """The declared fit's degrees of freedom, nu = readings - unknowns (``model``'s residual rows: every measured
+    column at every point or sample; its parameters: the fitted ones and, for steady points, each point's true
+    input values), checked before its first fit: an error when none is left (nu <= 0: the fit is exact whatever
+    the model, chi^2 = 0, and no test can say anything) or when the data make fewer than 2 held-out folds (a
+    refit without the only fold has nothing to fit); with few (nu < FEW_DEGREES) a warning, returned: the
+    lack-of-fit and held-out tests then have almost no power."""
+    globals_ = model.layout.globals
+    readings, unknowns = model.n_rows, model.layout.size
+    latent = unknowns - len(globals_)
     nu = readings - unknowns
     what = "point" if data.kind == "steady" else "sample"
     counted = (f"{readings} readings ({data.n} {what}{'s' * (data.n != 1)} x {len(exp.channels)} columns: "
@@ -460,11 +462,15 @@ def trace_globals(exp: Experiment, data: Dataset, ch, run: str | None, length: i
     return out
 
 
-def fit_stage(netlist: Path, exp: Experiment, data: Dataset, globals_: list[Free], x_prev, prev_model) -> Stage:
+def fit_stage(netlist: Path, exp: Experiment, data: Dataset, globals_: list[Free], x_prev, prev_model,
+              before_fit=None) -> Stage:
+    """``before_fit(model)``: a check of the model built, before any run (calibrate's degrees of freedom)."""
     from blocks.circuit import Circuit
 
     circuit = Circuit.from_file(netlist)
     model = Model(circuit, exp, data, globals_)
+    if before_fit is not None:
+        before_fit(model)
     x0 = model.initial()
     if x_prev is not None and prev_model is not None:
         x0 = prev_model.extend(x_prev, model)
