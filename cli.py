@@ -489,7 +489,7 @@ def _resume_hint(args, summary) -> str:
 
 def cmd_calibrate(args) -> int:
     """vphs calibrate EXPERIMENT: declared fit, residual trace, augmented netlist, report (blocks.calibrate)."""
-    from blocks.calibrate.output import replacing
+    from blocks.calibrate.output import check_creatable, replacing
     from blocks.calibrate.report import write
     from blocks.calibrate.experiment import load_experiment
     from blocks.calibrate.run import calibrate, refuse_to_overwrite_inputs
@@ -497,15 +497,19 @@ def cmd_calibrate(args) -> int:
     out = Path(args.output or Path("out") / "calibrate" / Path(args.experiment).stem)
     if out.exists() and not out.is_dir():
         raise ArgumentError(f"vphs: output '{out}' is a file; give a folder")
+    check_creatable(out)  # before any work: a folder that cannot be made (-o /proc/x) is the argument's error
 
     def say(message: str) -> None:
         if not args.quiet:
             print(f"vphs: {message}", file=sys.stderr, flush=True)
 
+    def warn(message: str) -> None:  # what changes how the results read: said even with -q
+        print(f"vphs: warning: {message}", file=sys.stderr, flush=True)
+
     exp = load_experiment(args.experiment)
     refuse_to_overwrite_inputs(exp, out)  # before the previous run's files are moved aside: they may be inputs
     with replacing(out):  # the previous run's files are put back if this one fails or is interrupted
-        cal = calibrate(exp, out, progress=say)
+        cal = calibrate(exp, out, progress=say, warn=warn)
         paths = write(cal, out)
     for line in cal.verdict:
         print(line)

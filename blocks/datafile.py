@@ -12,7 +12,8 @@ The format (what ``vphs run -o`` writes, and what measurements and data-sheet re
   plain number.
 - At most one column may have no unit: the grouping column (``setting``, ``run``). Its cells are labels
   (text), kept as written and never read as numbers, so a forgotten unit cannot pass silently as a number
-  in SI; a second column without a unit is an error.
+  in SI; a second column without a unit is an error. A caller may name columns that go without a unit as
+  plain numbers (``read_table(path, plain=("point",))``: a column that numbers repeated points).
 - When the caller names the grouping column (``read_table(path, group="setting")``, as an experiment
   file does), several columns may go without a unit: the named one holds the group labels; any other
   column without a unit whose cells are all numbers is a dimensionless number (unit ``1``, e.g. a pilot
@@ -101,39 +102,20 @@ class Table:
         return DataFileError(self.file, message, self.lines[row], column)
 
 
-def read_table(path: str | Path, group: str | None = None) -> Table:
+def read_table(path: str | Path, group: str | None = None, plain: tuple[str, ...] = ()) -> Table:
     """Read a data file (format in the module docstring) into a :class:`Table` in SI.
 
     ``group`` names the grouping column (which must exist); other columns without a unit are then read as
     dimensionless numbers or as text labels (module docstring). Without it, the one column without a unit
-    is the grouping column and a second is an error."""
+    is the grouping column and a second is an error; the columns named in ``plain`` may also go without a
+    unit, read as plain numbers (a column that numbers repeated points)."""
     file = str(path)
-    try:
-        raw = read_bounded(path, MAX_BYTES)
-    except NetlistError as exc:
-        raise DataFileError(file, exc.message) from None
-    try:
-        text = raw.decode("utf-8-sig")
-    except UnicodeDecodeError as exc:
-        raise DataFileError(file, f"not a UTF-8 text file (byte {exc.start})") from None
-
-    rows: list[tuple[int, list[str]]] = []
-    for line_no, line in enumerate(text.splitlines(), start=1):
-        if not line.strip() or line.lstrip().startswith("#"):
-            continue
-        try:
-            cells = next(csv.reader([line]))
-        except csv.Error as exc:
-            raise DataFileError(file, f"cannot read the line as CSV: {exc}", line_no) from None
-        rows.append((line_no, [c.strip() for c in cells]))
-    if not rows:
-        raise DataFileError(file, "no header line (the file is empty or has only comments)")
-
+    rows = _rows(path)
     header_line, header = rows[0]
     body = rows[1:]
     if group is not None:
         return _read_named_group(file, header_line, header, body, group)
-    names, units, group = _read_header(file, header_line, header)
+    names, units, group = _read_header(file, header_line, header, plain)
     width = len(header)
     if not body:
         raise DataFileError(file, "no data rows below the header", header_line)
@@ -153,6 +135,47 @@ def read_table(path: str | Path, group: str | None = None) -> Table:
             columns[name][k] = _number(file, line_no, col, header[col - 1], cell) * factors[name]
     return Table(file=file, columns=columns, units=units, group=group, labels=labels if group else None,
                  header_line=header_line, lines=lines, positions={n: i for i, n in enumerate(names, start=1)})
+
+
+def header_of(path: str | Path) -> tuple[int, list[tuple[str, str | None]]]:
+    """The header of a data file: its line and (name, unit) of each column, the unit None where the cell has
+    no brackets (checked as :func:`read_table` checks it; errors located)."""
+    line_no, header = _rows(path, header_only=True)[0]
+    names: list[str] = []
+    out = []
+    for col, cell in enumerate(header, start=1):
+        name, unit = _header_cell(str(path), line_no, col, cell, names)
+        names.append(name)
+        out.append((name, unit))
+    return line_no, out
+
+
+def _rows(path: str | Path, header_only: bool = False) -> list[tuple[int, list[str]]]:
+    """(line number, cells) of every line that is not blank or a comment (the first: the header)."""
+    file = str(path)
+    try:
+        raw = read_bounded(path, MAX_BYTES)
+    except NetlistError as exc:
+        raise DataFileError(file, exc.message) from None
+    try:
+        text = raw.decode("utf-8-sig")
+    except UnicodeDecodeError as exc:
+        raise DataFileError(file, f"not a UTF-8 text file (byte {exc.start})") from None
+
+    rows: list[tuple[int, list[str]]] = []
+    for line_no, line in enumerate(text.splitlines(), start=1):
+        if not line.strip() or line.lstrip().startswith("#"):
+            continue
+        try:
+            cells = next(csv.reader([line]))
+        except csv.Error as exc:
+            raise DataFileError(file, f"cannot read the line as CSV: {exc}", line_no) from None
+        rows.append((line_no, [c.strip() for c in cells]))
+        if header_only:
+            break
+    if not rows:
+        raise DataFileError(file, "no header line (the file is empty or has only comments)")
+    return rows
 
 
 def _read_named_group(file: str, header_line: int, header: list[str], body: list, group: str) -> Table:
@@ -205,13 +228,16 @@ def _is_number(cell: str) -> bool:
         return False
 
 
-def _read_header(file: str, line_no: int, header: list[str]) -> tuple[list[str], dict[str, str], str | None]:
+def _read_header(file: str, line_no: int, header: list[str], plain: tuple[str, ...] = ()) \
+        -> tuple[list[str], dict[str, str], str | None]:
     names: list[str] = []
     units: dict[str, str] = {}
     group = None
     for col, cell in enumerate(header, start=1):
         name, unit = _header_cell(file, line_no, col, cell, names)
         names.append(name)
+        if unit is None and name in plain:
+            unit = "1"
         if unit is None:
             if group is not None:
                 raise DataFileError(file, f"column '{name}' has no unit in brackets; only one column (the "
@@ -253,5 +279,7 @@ def _number(file: str, line_no: int, col: int, header: str, cell: str) -> float:
     except ValueError:
         value = None
     if value is None or not math.isfinite(value):
-        raise DataFileError(file, f"column '{header}': '{cell}' is not a number", line_no, col)
+        hint = " (a decimal comma? numbers are read with a '.')" if _is_number(cell.replace(",", ".", 1)) \
+            and "," in cell else ""
+        raise DataFileError(file, f"column '{header}': '{cell}' is not a number{hint}", line_no, col)
     return value

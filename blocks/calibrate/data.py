@@ -33,8 +33,8 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.experiment import Experiment, described, unit_problem
-from blocks.datafile import DataFileError, Table, read_table
-from blocks.units import parse_unit, si_name, split_quantity
+from blocks.datafile import DataFileError, Table, header_of, read_table
+from blocks.units import parse_unit, quantity_name, si_name, split_quantity
 
 
 @dataclass
@@ -111,9 +111,14 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     """One data file; ``first``: its units are the channels' display units; ``several``: one of several
     files (steady points only; repeated-point noise is estimated over all of them in :func:`load_data`)."""
     group = exp.spec.group
-    table = read_table(file, group=group) if group else read_table(file)
+    if group:
+        table = read_table(file, group=group)
+    else:  # no grouping column: a column without unit is the repeats: column, a plain number's, or an error
+        plain = tuple({c.name for c in exp.channels if c.si_unit in ("", "1")} | {exp.spec.repeats} - {None})
+        _check_unitless(exp, file, plain)
+        table = read_table(file, plain=plain)
     if group is None and table.group is not None:
-        raise table.error(f"has no unit; name it as the experiment's 'group:' or give it a unit", table.group)
+        raise table.error(UNITLESS, table.group)
     kind = "time" if "t" in table.columns else "steady"
     if several and kind == "time" and group is not None:
         raise exp.error(("group",), f"group: {file.name} is one of several time-series files, each of them a run; "
@@ -183,6 +188,31 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
             sigma[ch.name] = _from_differences(exp, ch, measured[ch.name])
             notes[ch.name] = "estimated from second differences"
     return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
+
+
+UNITLESS = ("has no unit; name it as the experiment's 'group:' (the grouping column) or 'repeats:' (the column "
+            "that numbers repeated points), or give it a unit")
+
+
+def _check_unitless(exp: Experiment, file, plain: tuple[str, ...]) -> None:
+    """Without a grouping column, the first header cell without a unit that may not go without one, named
+    with the unit the experiment expects for it (the column of an imposed input or a compared output, the
+    times of a time series), before the table is read (which would take it for a grouping column and blame
+    the next one without unit)."""
+    line, cells = header_of(file)
+    channels = {c.name: c for c in exp.channels}
+    for col, (name, unit) in enumerate(cells, start=1):
+        if unit is not None or name in plain:
+            continue
+        ch = channels.get(name)
+        if ch is not None:
+            message = (f"column '{name}' has no unit: write '{name} [{ch.written or ch.si_unit}]' (it is {ch.place}, "
+                       f"{quantity_name(parse_unit(ch.si_unit))})")
+        elif name == "t":
+            message = "column 't' has no unit: write 't [s]' (the sample times of a time series)"
+        else:
+            message = f"column '{name}' {UNITLESS}"
+        raise DataFileError(str(file), message, line, col)
 
 
 def _check_unit(exp: Experiment, table: Table, ch, file) -> None:

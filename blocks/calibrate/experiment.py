@@ -166,6 +166,7 @@ class Channel:
     unit: str = ""  # the data column's unit (for reports)
     si_unit: str = ""  # the SI unit of its dimension ("1": dimensionless; "": not known, see channel_unit)
     trace: str | None = None  # latent: trace: the profile's values parameter that reads this column
+    written: str = ""  # the unit the netlist writes the channel in ('l/min' for Q_in: "40 l/min"; '': not known)
 
     @property
     def place(self) -> str:
@@ -287,14 +288,14 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     base = Path(file).parent
     netlist = (base / spec.netlist).resolve()
     if not netlist.is_file():
-        raise located.error(("netlist",), f"netlist: file not found: {spec.netlist}")
+        raise located.error(("netlist",), f"netlist: file not found: {spec.netlist}" + _looked_for(spec.netlist, netlist))
     names = [spec.data] if isinstance(spec.data, str) else list(spec.data)
     data_files = []
     for k, name in enumerate(names):
         path = (base / name).resolve()
         where = ("data",) if isinstance(spec.data, str) else ("data", k)
         if not path.is_file():
-            raise located.error(where, f"data: file not found: {name}")
+            raise located.error(where, f"data: file not found: {name}" + _looked_for(name, path))
         if path in data_files:
             raise located.error(where, f"data: {name} is listed twice (its points would count twice)")
         data_files.append(path)
@@ -321,6 +322,11 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     for role, table in (("input", spec.inputs), ("output", spec.outputs)):
         for name, ch in table.items():
             path = (f"{role}s", name)
+            if role == "output" and ch.parameter is not None:
+                raise located.error(path + ("parameter",), f"outputs.{name}: 'parameter' is for inputs (a value set "
+                                    f"per point); an output is compared with a logged signal: "
+                                    + ("give signal: <name> instead" if ch.signal is None else "leave it out")
+                                    + f" (logged in {spec.netlist}: {', '.join(signals)})")
             if role == "output" and ch.signal is None:
                 raise located.error(path, f"outputs.{name}: missing 'signal' (the logged signal it is compared with)")
             if role == "input" and (ch.signal is None) == (ch.parameter is None):
@@ -341,6 +347,11 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 raise located.error(path + ("latent",), f"{role}s.{name}.latent: 'trace' is for the recorded input "
                                     f"of a time series (given by 'signal'), not a steady point's 'parameter'")
             levels = [] if isinstance(ch.latent, str) else list(ch.latent)
+            if levels and ch.parameter is not None:
+                raise located.error(path + ("latent",), f"{role}s.{name}.latent: [{', '.join(levels)}] is for the "
+                                    f"command levels of a time series (an input given by 'signal'); a steady input "
+                                    f"is set point by point through 'parameter' ({ch.parameter}), its true value at "
+                                    f"each point fitted already: leave latent out")
             if isinstance(ch.latent, list) and not levels and "latent" in ch.model_fields_set:
                 raise located.error(path + ("latent",), f"{role}s.{name}.latent: lists no level; give the netlist "
                                     f"parameters of its levels (e.g. [u1, u2]) or 'trace', or leave it out")
@@ -356,6 +367,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 raise located.error(path, f"outputs.{name}: an output takes 'signal' and 'noise' only")
             channel = Channel(name, role, ch.signal, ch.parameter, levels, None, "given",
                               si_unit=channel_unit(ch, levels, circuit.flat.parameters, signals))
+            channel.written = written_unit(channel, entries, signals)
             if isinstance(ch.noise, str) and ch.noise.strip() in ("repeats", "diff"):
                 channel.noise_method = ch.noise.strip()
             else:
@@ -419,13 +431,20 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             raise located.error(path, f"free.{name}: an array parameter cannot be free")
         lower = -np.inf if fs.lower is None else si(name, fs.lower, path + ("lower",))
         upper = np.inf if fs.upper is None else si(name, fs.upper, path + ("upper",))
-        if entry.bounds is not None:
-            if entry.bounds.lower is not None:
-                lower = max(lower, entry.bounds.lower)
-            if entry.bounds.upper is not None:
-                upper = min(upper, entry.bounds.upper)
         unit = display_unit(entry, fs)
-        shown = (lambda v: f"{v / display_factor(unit):g} {unit}".strip()) if unit else (lambda v: f"{v:g} (SI)")
+        shown = ((lambda v: f"{v:g}") if unit == "1" else (lambda v: f"{v / display_factor(unit):g} {unit}".strip())
+                 if unit else (lambda v: f"{v:g} (SI)"))
+        if entry.bounds is not None:  # a block's parameter: bounds beyond its own are refused, not clamped (the
+            own = entry.bounds        # fit would stop at the block's bound while the experiment says another)
+            for key, raw, value, limit, beyond in (("lower", fs.lower, lower, own.lower, "below"),
+                                                   ("upper", fs.upper, upper, own.upper, "above")):
+                if raw is not None and limit is not None and (value < limit if key == "lower" else value > limit):
+                    raise located.error(path + (key,), f"free.{name}: {key} {raw} is {beyond} {name}'s own {key} "
+                                                       f"bound {shown(limit)}")
+            if own.lower is not None:
+                lower = max(lower, own.lower)
+            if own.upper is not None:
+                upper = min(upper, own.upper)
         if not lower < upper:
             raise located.error(path, f"free.{name}: the lower bound {shown(lower)} is not below the upper "
                                 f"{shown(upper)}" + (" (with the netlist's bounds of the parameter)"
@@ -467,8 +486,16 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             ch.trace = trace_parameter(circuit, exact, ch.name, located, spec.netlist)
     exact = [(column, param) for column, param in exact if param not in {c.trace for c in channels}]
     check_values(circuit, overrides, groups, spec, located)
+    check_free_values(circuit, overrides, groups, free, spec, located)
     return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files,
                       exact)
+
+
+def _looked_for(written: str, path: Path) -> str:
+    """Where a file named in the experiment was looked for, when that is not what was written."""
+    if Path(written).is_absolute():
+        return ""
+    return f" (looked for {path}: paths in an experiment file are relative to its folder)"
 
 
 def trace_parameter(circuit, exact: list[tuple[str, str]], column: str, located: Located, netlist: str) -> str:
@@ -516,6 +543,9 @@ def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> No
     if spec.group is None:
         raise located.error(("group_table",), "group_table: needs 'group' (the grouping column)")
     path = (base / gt.file).resolve()
+    if not path.is_file():
+        raise located.error(("group_table", "file"), f"group_table.file: file not found: {gt.file}"
+                            + _looked_for(gt.file, path))
     try:
         table = read_table(path, group=spec.group)
     except DataFileError:
@@ -555,6 +585,24 @@ def channel_unit(ch: ChannelSpec, levels: list[str], table, signals: dict) -> st
         return si_name(found[0])
     dims = table.dimension(ch.parameter)
     return "" if dims is None else si_name(dims)
+
+
+def written_unit(channel: Channel, entries: dict, signals: dict) -> str:
+    """The unit the netlist writes a channel in, to suggest for a data column written without one: the logged
+    signal's display unit (``p1: {of: P1, unit: bar}``), the unit the imposed parameter is written in
+    (``Q_in: "40 l/min"``), else the SI unit of the channel's dimension ('' where that is not known either)."""
+    if channel.si_unit in ("", GENERIC):
+        return ""
+    found = [signals[channel.signal].display_unit] if channel.signal is not None else []
+    if channel.parameter is not None:
+        found.append(display_unit(entries[channel.parameter]))
+    for text in found:
+        try:
+            if text and parse_unit(text).same_dimension(parse_unit(channel.si_unit)):
+                return text
+        except UnitError:
+            continue
+    return channel.si_unit
 
 
 def unit_problem(unit_text: str, channel: Channel, subject: str = "it", place: str | None = None) -> str | None:
@@ -655,6 +703,86 @@ def check_values(circuit, overrides: dict[str, float], groups: dict[str, dict[st
         except (NetlistError, ParameterError) as exc:
             raise located.error(path, f"{path[0]}: with the values of {what} the netlist cannot be evaluated: "
                                       f"{exc}") from None
+
+
+def check_free_values(circuit, overrides: dict[str, float], groups: dict[str, dict[str, float]], free: list[Free],
+                      spec: ExperimentSpec, located: Located) -> None:
+    """The netlist evaluated at each free parameter's start, and at each bound the experiment gives it (the
+    other free parameters at their starts), with the overrides and each group's values (a group's own start
+    of a ``per: group`` parameter): a start or bound that puts a block parameter out of its declared bounds
+    (``A_o: {initial: "-5 mm^2"}`` feeding an orifice's area) is the experiment's error, located at the entry,
+    before any run. It used to run to exit 0 with every run of the fit failing. The fit may go to a bound, so
+    a bound the netlist cannot take is refused too; a bound taken from the block itself is its own."""
+    if not free:
+        return
+    labels = list(groups) + sorted({g for f in free for g in f.starts if g not in groups})
+    for label in labels or [None]:
+        base = {**overrides, **groups.get(label, {})}
+        try:
+            circuit.vectors(base)
+        except (NetlistError, ParameterError):
+            continue  # the netlist's own values (or the group's, refused by check_values) fail: not the free's
+        with_group = f" and the values of group {label}" if len(labels) > 1 else ""
+
+        def problem(values: dict) -> str | None:
+            try:
+                circuit.vectors({**base, **values})
+            except (NetlistError, ParameterError) as exc:
+                return _blamed(getattr(exc, "message", str(exc)), circuit.flat.parameters.entries)
+            return None
+
+        starts = {f.name: f.starts.get(label, f.initial) for f in free}
+        for f in free:
+            fs = spec.free[f.name]
+            start = f.starts.get(label, f.initial)
+            found = problem({f.name: start})
+            if found:
+                own = label is not None and label in f.starts
+                raw = fs.initial[_key_of(fs.initial, label)] if own else fs.initial
+                written = _written(raw, start)
+                raise located.error(("free", f.name) + (("initial", _key_of(fs.initial, label)) if own else
+                                                        ("initial",) if fs.initial is not None else ()),
+                                    f"free.{f.name}: with the start {written}{with_group}, {found}")
+        found = problem(starts)
+        if found:
+            raise located.error(("free",), f"free: with the starts of the free parameters together{with_group}, "
+                                           f"{found}")
+        for f in free:
+            fs = spec.free[f.name]
+            for key, raw, bound in (("lower", fs.lower, f.lower), ("upper", fs.upper, f.upper)):
+                if raw is None or not np.isfinite(bound):
+                    continue
+                found = problem({**starts, f.name: bound})
+                if found:
+                    others = " (the other free parameters at their starts)" if len(free) > 1 else ""
+                    raise located.error(("free", f.name, key), f"free.{f.name}: at its {key} bound "
+                                        f"{_written(raw, bound)}{others}{with_group}, {found}; the fit may go "
+                                        f"there: give {'a lower' if key == 'lower' else 'an upper'} bound the netlist "
+                                        f"can take")
+
+
+def _key_of(mapping, label: str):
+    """The key of ``mapping`` (a per-group start as written: 1 or "1") that is the group ``label``."""
+    return next(k for k in mapping if str(k) == label)
+
+
+def _written(raw, value: float) -> str:
+    """A value as the experiment wrote it ("-5 mm^2"), else as a number."""
+    return raw.strip() if isinstance(raw, str) else f"{value:g}"
+
+
+def _blamed(message: str, entries) -> str:
+    """A block's complaint about a value, with the parameter qualified: 'orif: A = -5e-06 m^2 is below ...'
+    -> 'orif.A = -5e-06 m^2 is below ...' (an override's 'override orif.Cd: Cd = 2 ...' likewise)."""
+    import re
+
+    m = re.match(r"^(?:override \S+: )?(?P<comp>[\w.]+): (?P<param>\w+) = ", message)
+    if m and f"{m['comp']}.{m['param']}" in entries:
+        return f"{m['comp']}.{m['param']} = " + message[m.end():]
+    m = re.match(r"^override (?P<name>\S+): (?P<param>\w+) = ", message)
+    if m and m["name"].endswith("." + m["param"]):
+        return f"{m['name']} = " + message[m.end():]
+    return message
 
 
 def is_signal_level(table, name: str) -> bool:

@@ -18,7 +18,7 @@ Schemes (``heldout:`` of the experiment):
   latent levels start the refit from the netlist's values and its trace's knots from its recording alone
   (its outputs must not have placed them), and its outputs are predicted.
 Without groups (or with one data file), the group and experiment schemes fall back to kfold (said in the
-result).
+result, and by ``vphs calibrate`` as a warning: :func:`fallbacks`).
 
 A parameter fitted per group (``per: group``: a run's initial state, a group's own setting) has, for a group
 held out whole, nothing outside the group to fix it. The fold's refit leaves the group's own values out;
@@ -134,6 +134,36 @@ def folds_of(data, spec) -> tuple[str, list[tuple[str, np.ndarray]]]:
         else f" ({spec.scheme} needs steady points: it fell back to kfold)")
     return f"{k} contiguous blocks of the time series{note}{cut}", [(f"block {i + 1}", p)
                                                                     for i, p in enumerate(parts)]
+
+
+def fallbacks(data, spec, grouped: bool = True) -> list[str]:
+    """What the held-out test does other than the experiment asks (:func:`folds_of`), one line each: a scheme
+    the data cannot run (leave one group out of one group, leave one experiment out of one file), or a k cut to
+    the points, samples or files there are. ``vphs calibrate`` prints them as warnings: they change what the
+    held-out test means. ``grouped``: the experiment names a grouping column."""
+    scheme, _ = folds_of(data, spec)
+    instead = scheme.split(" (")[0]
+    steady = data.kind == "steady"
+    groups, files = len(data.groups), len(dict.fromkeys(data.sources or []))
+    what = "points" if steady else "samples"
+    asked = getattr(spec, "model_fields_set", {"k"})
+    out = []
+    if spec.scheme == "leave_one_group_out" and groups < 2:
+        kind = "groups" if steady else "runs"
+        out.append(f"heldout: leave_one_group_out needs 2 {kind} or more, the data have 1"
+                   + (" (no grouping column)" if steady and not grouped else "") + f": {instead} instead")
+    elif spec.scheme in ("leave_one_experiment_out", "kfold_experiments") and steady and files < 2:
+        out.append(f"heldout: {spec.scheme} needs 2 data files or more, the data have 1: {instead} instead")
+    elif spec.scheme == "leave_one_experiment_out" and not steady and groups < 2:
+        out.append(f"heldout: leave_one_experiment_out needs 2 runs (data files) or more, the data have 1: {instead} "
+                   f"instead")
+    elif spec.scheme == "kfold_experiments" and not steady:
+        out.append(f"heldout: kfold_experiments needs steady points from several data files: {instead} instead")
+    elif "k" in asked and spec.scheme == "kfold_experiments" and spec.k > files:
+        out.append(f"heldout: k = {spec.k} is more than the {files} data files: {instead} instead")
+    elif "k" in asked and spec.scheme == "kfold" and spec.k > data.n:
+        out.append(f"heldout: k = {spec.k} is more than the {data.n} {what}: {instead} instead")
+    return out
 
 
 def read_by_its_run(model: Model, level) -> bool:

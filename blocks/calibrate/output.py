@@ -83,14 +83,34 @@ def _recover(folder: Path) -> None:
 
 
 def _make(folder: Path) -> bool:
-    """Create ``folder`` (and its parents); True if it did not exist. A file in the way is bad input."""
+    """Create ``folder`` (and its parents); True if it did not exist. A file in the way, or a folder that
+    cannot be created (no permission, a read-only or virtual file system), is bad input."""
     if folder.is_dir():
         return False
     for parent in [folder, *folder.parents]:
         if parent.exists() and not parent.is_dir():
             raise VphsError(f"output folder {folder}: {parent} is a file, not a folder; give another folder (-o)")
-    folder.mkdir(parents=True)
+    try:
+        folder.mkdir(parents=True)
+    except OSError as exc:
+        raise VphsError(f"output folder '{folder}': cannot be created ({exc.strerror or exc}); give another folder "
+                        f"(-o)") from None
     return True
+
+
+def check_creatable(folder: Path) -> None:
+    """Before any work: an error (:func:`_make`'s) if ``folder`` cannot be created; the folders made to find
+    out are removed again (a run that then fails on its input leaves nothing behind)."""
+    folder = Path(folder)
+    missing = [p for p in [folder, *folder.parents] if not p.exists()]
+    if not missing:
+        return
+    _make(folder)
+    for path in missing:  # the deepest first
+        try:
+            path.rmdir()
+        except OSError:
+            break
 
 
 @contextmanager

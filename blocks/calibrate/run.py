@@ -39,7 +39,7 @@ from blocks.calibrate.elimination import Removal, try_removals
 from blocks.calibrate.exchange import Exchange, file_name, free_of, try_exchanges
 from blocks.calibrate.experiment import Experiment, Free, display_unit, load_experiment
 from blocks.calibrate.fit import FitResult, fit
-from blocks.calibrate.heldout import HeldOut, folds_of, heldout
+from blocks.calibrate.heldout import HeldOut, fallbacks, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
@@ -102,29 +102,40 @@ class Calibration:
 
 
 def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=None, rounds: int | None = None,
-              with_heldout: bool = True) -> Calibration:
+              with_heldout: bool = True, warn=None) -> Calibration:
+    """``progress``: a line at each step (``vphs calibrate`` prints them unless -q); ``warn``: a line about what
+    the data allow (few degrees of freedom: :func:`degrees_of_freedom`), printed even with -q."""
     say = progress or (lambda message: None)
     clock = time.perf_counter()
     exp = experiment if isinstance(experiment, Experiment) else load_experiment(experiment)
     out = Path(out)
     refuse_to_overwrite_inputs(exp, out)
     data = load_data(exp)
-    scheme = folds_of(data, exp.spec.heldout)[0] if with_heldout else ""
+    scheme, folds = folds_of(data, exp.spec.heldout) if with_heldout else ("", [])
     cal = Calibration(exp, data, out)
     globals_ = per_group_globals(exp, data) + latent_globals(exp, data, cal.held_levels)
+    warnings = drift_untested(exp, data)  # said after the first fit (see below)
+    if with_heldout and warn:  # the held-out test run other than asked (without warn: said as progress)
+        warnings += fallbacks(data, exp.spec.heldout, exp.spec.group is not None)
+    few = []  # the first model's degrees of freedom, when few (checked once it is built, before its fit)
+
+    def count(model: Model) -> None:
+        few[:] = [line for line in [degrees_of_freedom(exp, data, model, folds if with_heldout else None)] if line]
     netlist = exp.netlist
     x_prev: np.ndarray | None = None
     prev_model: Model | None = None
     n_rounds = rounds or exp.spec.trace.rounds
     for k in range(1, n_rounds + 1):
         t0 = time.perf_counter()
-        stage = fit_stage(netlist, exp, data, globals_, x_prev, prev_model)
+        stage = fit_stage(netlist, exp, data, globals_, x_prev, prev_model, before_fit=count if k == 1 else None)
         say(f"round {k}: fitted {len(globals_)} parameters, chi^2/nu = {stage.lof.reduced:.3g} "
             f"({stage.model.simulations} runs, {time.perf_counter() - t0:.1f} s)")
         if k == 1:
             cal.initial = stage
-            if "(" in scheme:  # not the scheme asked for, or fewer folds than asked (after the first fit: a bad
-                say(f"held out: {scheme}")  # input found there must be the one line printed)
+            if "(" in scheme and not warn:  # not the scheme asked for, or fewer folds than asked (after the first
+                say(f"held out: {scheme}")  # fit: a bad input found there must be the one line printed)
+            for line in few + warnings:  # vphs calibrate: said even with -q (the held-out fallbacks among them)
+                (warn or say)(line)
         t1 = time.perf_counter()
         rnd = trace_round(k, stage, exp, data, globals_, out, with_heldout)
         stage, rnd = restart_if_short(cal, k, stage, rnd, netlist, globals_, with_heldout, say)
@@ -180,9 +191,54 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         j = cal.final.model.layout.index(param)
         cal.accepted[k] = (key, title, where, param, float(cal.final.fit.x[j]), float(cal.final.fit.se[j]), unit)
     cal.verdict, cal.unexplained = verdict(cal)
+    cal.verdict[:0] = few
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
+
+
+def drift_untested(exp: Experiment, data: Dataset) -> list[str]:
+    """A warning when ``drift:`` names parameters but the data have one group (or run): nothing to refit them
+    per group against, so the drift test is not made."""
+    if not exp.spec.drift or len(data.groups) >= 2:
+        return []
+    kind = "group" if data.kind == "steady" else "run"
+    return [f"drift: {', '.join(exp.spec.drift)} would be refitted per {kind} to test that "
+            f"{'it stays' if len(exp.spec.drift) == 1 else 'they stay'} constant, but the data have one {kind}"
+            + (" (no grouping column)" if exp.spec.group is None and data.kind == "steady" else "")
+            + ": drift is not tested"]
+
+
+FEW_DEGREES = 5  # below this many degrees of freedom a calibration is run, with a warning: its tests can hardly fail
+
+
+def degrees_of_freedom(exp: Experiment, data: Dataset, model: Model, folds: list | None) -> str:
+    """The declared fit's degrees of freedom, nu = readings - unknowns (``model``'s residual rows: every measured
+    column at every point or sample; its parameters: the fitted ones and, for steady points, each point's true
+    input values), checked before its first fit: an error when none is left (nu <= 0: the fit is exact whatever
+    the model, chi^2 = 0, and no test can say anything) or when the data make fewer than 2 held-out folds (a
+    refit without the only fold has nothing to fit); with few (nu < FEW_DEGREES) a warning, returned: the
+    lack-of-fit and held-out tests then have almost no power."""
+    globals_ = model.layout.globals
+    readings, unknowns = model.n_rows, model.layout.size
+    latent = unknowns - len(globals_)
+    nu = readings - unknowns
+    what = "point" if data.kind == "steady" else "sample"
+    counted = (f"{readings} readings ({data.n} {what}{'s' * (data.n != 1)} x {len(exp.channels)} columns: "
+               f"{', '.join(c.name for c in exp.channels)}) and {unknowns} unknowns ({len(globals_)} fitted "
+               f"parameter{'s' * (len(globals_) != 1)}" + (f", {latent} true input value{'s' * (latent != 1)}, one "
+                                                            f"per point and imposed input" if latent else "") + ")")
+    if nu <= 0:
+        raise exp.error(("data",), f"data: {counted}: nu = {nu}, no degree of freedom is left to test the fit with "
+                                   f"(it would be exact whatever the model); more {what}s are needed")
+    if folds is not None and len(folds) < 2:
+        raise exp.error(("heldout",) if "heldout" in exp.spec.model_fields_set else ("data",),
+                        f"heldout: the data ({data.n} {what}{'s' * (data.n != 1)}) make {len(folds)} held-out fold; "
+                        f"the held-out test refits without each fold and needs 2 at least; more {what}s are needed")
+    if nu < FEW_DEGREES:
+        return (f"only nu = {nu} degree{'s' * (nu != 1)} of freedom ({counted}): the lack-of-fit and held-out tests "
+                f"have almost no power, and what they find says little; more {what}s are needed to test the model")
+    return ""
 
 
 def write_calibrated(cal: Calibration) -> Path | None:
@@ -406,11 +462,15 @@ def trace_globals(exp: Experiment, data: Dataset, ch, run: str | None, length: i
     return out
 
 
-def fit_stage(netlist: Path, exp: Experiment, data: Dataset, globals_: list[Free], x_prev, prev_model) -> Stage:
+def fit_stage(netlist: Path, exp: Experiment, data: Dataset, globals_: list[Free], x_prev, prev_model,
+              before_fit=None) -> Stage:
+    """``before_fit(model)``: a check of the model built, before any run (calibrate's degrees of freedom)."""
     from blocks.circuit import Circuit
 
     circuit = Circuit.from_file(netlist)
     model = Model(circuit, exp, data, globals_)
+    if before_fit is not None:
+        before_fit(model)
     x0 = model.initial()
     if x_prev is not None and prev_model is not None:
         x0 = prev_model.extend(x_prev, model)

@@ -17,7 +17,8 @@ the fit tests (below) and ends within RESTART_WITHIN in BIC of the best is refit
 starts: the first refit's end with the candidate's parameter moved to zero + f * (phi - zero). The lowest chi^2
 of its starts counts, and the report lists every start's chi^2 where they differ.
 Accepted only if all hold, tried in BIC order until one passes:
-    |phi - phi0| > 3 SE, phi inside the candidate's physically plausible range, dBIC < -10, and the
+    |phi - phi0| > 3 SE, phi inside the candidate's physically plausible range, dBIC < -10, a degree of
+    freedom left beside the candidate's parameter (with none the refit is exact whatever the model), and the
     held-out error with the candidate (refits without each fold) is lower than without it.
 Ambiguity: another refitted candidate that also passes the first three tests and whose dBIC is within 10
 of the best, or one not refitted whose de-correlated sensitivity is nearly parallel to the best's or to
@@ -88,12 +89,18 @@ class Refit:
 
     @property
     def passes_fit_tests(self) -> bool:
-        return self.z > Z_MIN and self.plausible and self.dbic < DBIC_MAX and not self.run_failure
+        return self.z > Z_MIN and self.plausible and self.dbic < DBIC_MAX and not self.run_failure and self.free
+
+    @property
+    def free(self) -> bool:
+        """A degree of freedom is left beside the candidate's parameter: with none the refit is exact whatever the
+        model (chi^2 = 0), which no test can judge."""
+        return self.fit.n > self.fit.p
 
     @property
     def only_implausible(self) -> bool:
         """Passes every fit test but the plausible range: the data ask for it, the range refuses it."""
-        return self.z > Z_MIN and not self.plausible and self.dbic < DBIC_MAX and not self.run_failure
+        return self.z > Z_MIN and not self.plausible and self.dbic < DBIC_MAX and not self.run_failure and self.free
 
 
 @dataclass
@@ -229,6 +236,8 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
                               f"{rf.score.place.plausible[1]:.3g}] {rf.score.place.unit}")
         if not rf.dbic < DBIC_MAX:
             rf.reasons.append(f"dBIC = {rf.dbic:.3g} (needs < {DBIC_MAX:g})")
+        if not rf.free:
+            rf.reasons.append(f"no degree of freedom left beside it ({rf.fit.n} readings, {rf.fit.p} unknowns)")
         if accepted is not None and not rf.reasons:
             rf.reasons.append(f"{rf.dbic - accepted.dbic:.3g} behind the accepted {accepted.score.place.key} in BIC")
         if rf.reasons:

@@ -5,6 +5,7 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import numpy as np
 import pytest
 import yaml
 
@@ -336,3 +337,252 @@ def test_a_netlist_or_a_misspelt_key_says_what_it_is(tmp_path, capsys):
                                  f"experiment; run it with vphs run"), err
     code, err, path = run(tmp_path, capsys, changed(heldot={"scheme": "kfold"}))
     assert code == 2 and err.endswith("heldot: unknown key 'heldot' (did you mean heldout?)"), err
+
+
+# ---------------------------------------------------------------- a first-user review of vphs calibrate (c_NN: its cases)
+def test_free_bounds_beyond_the_blocks_own_are_refused_not_clamped(tmp_path, capsys):
+    """c_98, c_110: `ret.Cd: {lower: 0.5, upper: 2}` was clamped to the block's [0, 1] without a word (the
+    augmented experiment still said upper: 2), and a start outside read "1.5 1 is outside [0.5 1, 1 1]"."""
+    code, err, path = run(tmp_path, capsys, changed(**{"free": {"ret.Cd": {"initial": 0.8, "lower": 0.5, "upper": 2}}}))
+    assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: free\.ret\.Cd: upper 2 is above "
+                                      r"ret\.Cd's own upper bound 1", err), err
+    code, err, path = run(tmp_path, capsys, changed(**{"free": {"relief.k_s": {"initial": "50 bar",
+                                                                               "lower": "-5 bar"}}}))
+    assert code == 2 and err.endswith("free.relief.k_s: lower -5 bar is below relief.k_s's own lower bound "
+                                      "1e-05 bar"), err
+    code, err, path = run(tmp_path, capsys, changed(**{"free": {"ret.Cd": {"initial": 1.5, "lower": 0.5}}}))
+    assert code == 2 and err.endswith("free.ret.Cd: the start value 1.5 is outside [0.5, 1]"), err  # no unit '1'
+    assert not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize("free, pattern", [
+    ({"A_ret": {"initial": "-5 mm^2", "lower": "-10 mm^2", "upper": "100 mm^2"}},
+     r"free\.A_ret: with the start -5 mm\^2, ret\.A = -5e-06 m\^2 is below its lower bound 0 m\^2"),
+    ({"A_ret": {"initial": "8 mm^2", "lower": "-5 mm^2", "upper": "100 mm^2"}},
+     r"free\.A_ret: at its lower bound -5 mm\^2, ret\.A = -5e-06 m\^2 is below its lower bound 0 m\^2; the fit "
+     r"may go there: give a lower bound the netlist can take"),
+    ({"k_s": {"initial": "50 bar", "lower": "5 bar", "upper": "500 bar"},
+      "R_meter": {"initial": "4e8 Pa*s/m^3", "lower": "-1e9 Pa*s/m^3"}},
+     r"free\.R_meter: at its lower bound -1e9 Pa\*s/m\^3 \(the other free parameters at their starts\), meter\.G = "
+     r"-1e-09 m\^3/\(s\*Pa\) is below its lower bound 0 m\^3/\(s\*Pa\); the fit may go there: .*"),
+], ids=["start", "lower bound", "lower bound of a second"])
+def test_a_free_start_or_bound_that_puts_a_block_parameter_out_of_its_bounds_is_refused(tmp_path, capsys, free,
+                                                                                         pattern):
+    """c_96: `A_o: {initial: "-5 mm^2"}` feeding an orifice's area ran to exit 0, every run of the fit failing
+    ("the final fit's runs fail ... not identifiable"); c_52: a negative lower bound was accepted silently."""
+    code, err, path = run(tmp_path, capsys, changed(free=free))
+    assert code == 2 and "\n" not in err and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: {pattern}", err), err
+    line = int(err.split(":")[2])  # at the entry that is wrong
+    key = "initial" if "with the start" in err else "lower"
+    assert path.read_text().splitlines()[line - 1].lstrip().startswith(key + ":"), err
+    assert not (tmp_path / "out").exists()
+
+
+def test_a_free_start_is_checked_with_each_groups_values(tmp_path, capsys):
+    """A per-group start, and each group's own values, are what the netlist is evaluated with."""
+    spec = changed(free={"A_ret": {"initial": {"1": "8 mm^2", "2": "-1 mm^2"}, "per": "group"}},
+                   groups={"1": {"p_set": "30 bar"}, "2": {"p_set": "45 bar"}})
+    code, err, path = run(tmp_path, capsys, spec, data=DATA + "2,20,40\n2,40,50\n")
+    assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: free\.A_ret: with the start -1 mm\^2 "
+                                      r"and the values of group 2, ret\.A = -1e-06 m\^2 is below its lower bound "
+                                      r"0 m\^2", err), err
+    spec = changed(free={"k_s": {"initial": "50 bar", "lower": "5 bar", "upper": "500 bar"}},
+                   groups={"1": {"p_set": "30 bar"}, "2": {"p_set": "45 bar", "A_ret": "-1 mm^2"}})
+    code, err, path = run(tmp_path, capsys, spec, data=DATA + "2,20,40\n2,40,50\n")
+    assert code == 2 and "groups: with the values of group 2 the netlist cannot be evaluated" in err, err  # as before
+
+
+def test_data_that_leave_no_degree_of_freedom_are_refused(tmp_path, capsys):
+    """c_82: one point (3 readings, 3 unknowns) was "calibrated": chi^2 = 1e-25 "on nu = 1" (nu clamped), a
+    "1-fold" held-out that trained on nothing, and the verdict "fits to the noise"."""
+    code, err, path = run(tmp_path, capsys, GOOD, data="setting,Q [l/min],p1 [bar]\n1,20,40\n")
+    assert code == 2 and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: data: 2 readings \(1 point x 2 columns: Q, p1\) and 2 unknowns "
+        r"\(1 fitted parameter, 1 true input value, one per point and imposed input\): nu = 0, no degree of freedom "
+        r"is left to test the fit with \(it would be exact whatever the model\); more points are needed", err), err
+    assert not (tmp_path / "out").exists()
+
+
+def test_one_sample_makes_one_held_out_fold_and_is_refused(tmp_path, capsys):
+    code, err, path = run(tmp_path, capsys, SERIES, data="t [s],cmd [1],pA [bar]\n0,0,20\n")
+    assert code == 2 and re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: heldout: the data \(1 sample\) make 1 "
+                                      r"held-out fold; the held-out test refits without each fold and needs 2 at "
+                                      r"least; more samples are needed", err), err
+
+
+def test_few_degrees_of_freedom_are_warned_of_even_when_quiet(tmp_path, capsys):
+    """Two points, one free parameter: nu = 1. Run, but said on stderr (even with -q) and in the verdict."""
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(GOOD))
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "out"), "-q"])
+    captured = capsys.readouterr()
+    warning = ("only nu = 1 degree of freedom (4 readings (2 points x 2 columns: Q, p1) and 3 unknowns (1 fitted "
+               "parameter, 2 true input values, one per point and imposed input)): the lack-of-fit and held-out "
+               "tests have almost no power, and what they find says little; more points are needed to test the model")
+    assert code == 0 and f"vphs: warning: {warning}" in captured.err.splitlines(), captured.err
+    assert captured.out.splitlines()[0] == warning, captured.out
+
+
+def test_no_effect_is_accepted_that_leaves_no_degree_of_freedom(tmp_path):
+    """Two points, nu = 1: a sensor gain on p1 took the last degree of freedom (chi^2 79.5 -> 4e-23, reported
+    "on nu = 1" as the clamp had it) and was accepted: an exact fit that no test can judge."""
+    from blocks.calibrate.run import calibrate
+
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(changed(free={"ret.Cd": {"initial": 0.8, "lower": 0.5,
+                                                                                "upper": 1}})))
+    cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out")
+    assert not cal.accepted and cal.final.fit.n - cal.final.fit.p == 1
+    gain = next(rf for rf in cal.rounds[0].decision.refits if rf.score.place.key == "sensor_gain@p1")
+    assert gain.dbic < -10 and gain.reasons == ["no degree of freedom left beside it (4 readings, 4 unknowns)"]
+    assert cal.verdict[-1].startswith("unexplained discrepancy remains")
+
+
+UNGROUPED = {k: v for k, v in GOOD.items() if k not in ("group", "groups")}
+
+
+def test_the_repeats_column_may_go_without_a_unit_and_without_a_grouping_column(tmp_path, capsys):
+    """c_100: `repeats: point` as the README documents it, with no group: column, was refused: "column 'point':
+    has no unit; name it as the experiment's 'group:' or give it a unit"."""
+    from blocks.calibrate.data import load_data
+    from blocks.calibrate.experiment import load_experiment
+
+    spec = dict(UNGROUPED, repeats="point", outputs={"p1": {"signal": "p1", "noise": "repeats"}})
+    (tmp_path / "data.csv").write_text("point,Q [l/min],p1 [bar]\n1,20,40\n1,20.1,40.2\n2,40,50\n2,40.2,50.4\n")
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(spec))
+    data = load_data(load_experiment(tmp_path / "exp.yaml"))
+    assert list(data.repeat_ids) == [1, 1, 2, 2] and data.labels == ["all"] * 4
+    assert data.sigma["p1"] == pytest.approx(np.sqrt((0.1 ** 2 * 2 + 0.2 ** 2 * 2) / 2) * 1e5)
+    # another column without unit, and no group: the message names both keys that allow one
+    code, err, _ = run(tmp_path, capsys, spec, data="point,setting,Q [l/min],p1 [bar]\n1,a,20,40\n1,a,20,40.2\n")
+    assert code == 2 and re.search(r"data\.csv:1:2: column 'setting' has no unit; name it as the experiment's "
+                                   r"'group:' \(the grouping column\) or 'repeats:' \(the column that numbers "
+                                   r"repeated points\), or give it a unit$", err), err
+
+
+@pytest.mark.parametrize("data, pattern", [
+    ("Q,p1,p2\n20,40,1\n40,50,2\n", r"data\.csv:1:1: column 'Q' has no unit: write 'Q \[l/min\]' \(it is imposed as "
+                                    r"Q_in, a flow\)$"),
+    ("Q [l/min],p1,p2\n20,40,1\n40,50,2\n", r"data\.csv:1:2: column 'p1' has no unit: write 'p1 \[bar\]' \(it is "
+                                            r"compared with the signal p1, a pressure\)$"),
+])
+def test_a_header_without_units_names_the_first_column_and_the_unit_expected(tmp_path, capsys, data, pattern):
+    """c_17: header `Q,p1,p2` said "column 'p1' has no unit in brackets; only one column (the grouping column,
+    here 'Q') may go without": the wrong column, and no word of the unit the experiment expects."""
+    code, err, _ = run(tmp_path, capsys, UNGROUPED, data=data)
+    assert code == 2 and "\n" not in err and re.search(pattern, err), err
+
+
+def test_a_time_column_without_unit_says_it_is_the_times(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, SERIES, data="t,cmd [1],pA [bar]\n0,0,20\n0.1,0,20\n")
+    assert code == 2 and re.search(r"data\.csv:1:1: column 't' has no unit: write 't \[s\]'", err), err
+
+
+def test_latent_levels_on_a_steady_input_say_what_latent_is_for(tmp_path, capsys):
+    """c_69: `Q: {parameter: Q_in, latent: [Q_in]}` said "... so it is not a level of the command 'None'"."""
+    spec = changed(**{"inputs": {"Q": {"parameter": "Q_in", "latent": ["Q_in"], "noise": "0.5 l/min"}}})
+    code, err, path = run(tmp_path, capsys, spec)
+    assert code == 2 and "None" not in err and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: inputs\.Q\.latent: \[Q_in\] is for the command levels of a time "
+        r"series \(an input given by 'signal'\); a steady input is set point by point through 'parameter' \(Q_in\), "
+        r"its true value at each point fitted already: leave latent out", err), err
+
+
+def test_an_output_given_a_parameter_says_outputs_are_signals(tmp_path, capsys):
+    """c_72: `p2: {parameter: A_o, noise: ...}` under outputs said "outputs.p2: missing 'signal'"."""
+    spec = changed(**{"outputs": {"p1": {"signal": "p1", "noise": "0.2 bar"},
+                                  "p2": {"parameter": "A_ret", "noise": "0.2 bar"}}})
+    code, err, path = run(tmp_path, capsys, spec)
+    assert code == 2 and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: outputs\.p2: 'parameter' is for inputs \(a value set per point\); an "
+        r"output is compared with a logged signal: give signal: <name> instead \(logged in .*relief_rig\.yaml: p1, "
+        r"p3, p2, u\)", err), err
+    assert path.read_text().splitlines()[int(err.split(":")[2]) - 1].lstrip().startswith("parameter:")
+
+
+@pytest.mark.skipif(not Path("/proc/self").is_dir(), reason="needs /proc, where no folder can be made")
+def test_an_output_folder_that_cannot_be_created_is_refused_before_any_work(tmp_path, capsys):
+    """-o /proc/calout said "vphs: /proc/calout: No such file or directory", exit 1 (an internal error's)."""
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(GOOD))
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", "/proc/vphs_calout/sub"])
+    err = capsys.readouterr().err.strip()
+    assert code == 2 and err == ("vphs: output folder '/proc/vphs_calout/sub': cannot be created (No such file or "
+                                 "directory); give another folder (-o)"), err
+
+
+def test_probing_the_output_folder_leaves_nothing_when_the_input_is_bad(tmp_path, capsys):
+    code, err, _ = run(tmp_path, capsys, changed(outputs=None))
+    assert code == 2 and not (tmp_path / "out").exists()
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "a" / "b" / "out")])
+    assert code == 2 and not (tmp_path / "a").exists()
+
+
+@pytest.mark.parametrize("key, edit", [
+    ("netlist", {"netlist": "netlists/experiments/circuits/relief_rig.yaml"}),
+    ("data", {"data": "data/points.csv"}),
+    ("group_table.file", {"group_table": {"file": "crack.csv", "columns": {"crack": "p_set"}}, "groups": None}),
+])
+def test_a_file_not_found_says_where_it_was_looked_for(tmp_path, capsys, key, edit):
+    """c_105: a repository-relative netlist path in an experiment under netlists/experiments/ said only
+    "netlist: file not found: netlists/experiments/circuits/relief_rig.yaml"."""
+    code, err, path = run(tmp_path, capsys, changed(**edit))
+    written = next(v if isinstance(v, str) else v["file"] for v in edit.values() if v is not None)
+    assert code == 2 and re.fullmatch(
+        rf"vphs: {re.escape(str(path))}:\d+:\d+: {re.escape(key)}: file not found: {re.escape(written)} \(looked for "
+        rf"{re.escape(str(tmp_path / written))}: paths in an experiment file are relative to its folder\)", err), err
+
+
+def test_held_out_fallbacks_are_named_as_warnings():
+    """c_13, c_109, c_33: leave_one_group_out on one group, leave_one_experiment_out on one file and k = 40 on
+    24 points ran as something else, exit 0, with only a parenthesis in report.md to say so."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.experiment import HeldOutSpec
+    from blocks.calibrate.heldout import fallbacks
+
+    one = SimpleNamespace(kind="steady", n=24, groups={"1": list(range(24))}, labels=["1"] * 24, sources=None)
+    assert fallbacks(one, HeldOutSpec(scheme="leave_one_group_out")) == [
+        "heldout: leave_one_group_out needs 2 groups or more, the data have 1: 5-fold over points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="leave_one_group_out"), grouped=False) == [
+        "heldout: leave_one_group_out needs 2 groups or more, the data have 1 (no grouping column): 5-fold over "
+        "points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="leave_one_experiment_out")) == [
+        "heldout: leave_one_experiment_out needs 2 data files or more, the data have 1: 5-fold over points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="kfold", k=40)) == [
+        "heldout: k = 40 is more than the 24 points: 24-fold over points instead"]
+    assert fallbacks(one, HeldOutSpec(scheme="kfold", k=4)) == []
+    files = SimpleNamespace(kind="steady", n=6, groups={"all": list(range(6))}, labels=["all"] * 6,
+                            sources=["a", "a", "b", "b", "c", "c"])
+    assert fallbacks(files, HeldOutSpec(scheme="kfold_experiments", k=5)) == [
+        "heldout: k = 5 is more than the 3 data files: leave one experiment out instead"]
+    assert fallbacks(files, HeldOutSpec(scheme="kfold_experiments")) == []  # the default k, cut: not asked for
+    run1 = SimpleNamespace(kind="time", n=50, groups={"all": list(range(50))}, labels=["all"] * 50, sources=None)
+    assert fallbacks(run1, HeldOutSpec(scheme="leave_one_group_out")) == [
+        "heldout: leave_one_group_out needs 2 runs or more, the data have 1: 5 contiguous blocks of the time series "
+        "instead"]
+
+
+def test_held_out_fallback_and_untested_drift_are_warned_of_even_when_quiet(tmp_path, capsys):
+    """c_13 and c_86 (drift: with one group): said on stderr with -q, since they change what the tests mean."""
+    (tmp_path / "data.csv").write_text(DATA)
+    (tmp_path / "exp.yaml").write_text(yaml.safe_dump(changed(drift=["k_s"])))
+    code = cli.main(["calibrate", str(tmp_path / "exp.yaml"), "-o", str(tmp_path / "out"), "-q"])
+    lines = capsys.readouterr().err.splitlines()
+    assert code == 0
+    assert "vphs: warning: heldout: leave_one_group_out needs 2 groups or more, the data have 1: 2-fold over points " \
+           "instead" in lines, lines
+    assert "vphs: warning: drift: k_s would be refitted per group to test that it stays constant, but the data have " \
+           "one group: drift is not tested" in lines, lines
+
+
+def test_a_quoted_decimal_comma_is_named_as_one(tmp_path):
+    """c_87: '"5,0004"' said only "'5,0004' is not a number"."""
+    path = tmp_path / "points.csv"
+    path.write_text('Q [l/min],p1 [bar]\n"5,0004","2,3120"\n')
+    with pytest.raises(DataFileError, match=r"points\.csv:2:1: column 'Q \[l/min\]': '5,0004' is not a number "
+                                            r"\(a decimal comma\? numbers are read with a '\.'\)$"):
+        read_table(path)
+    path.write_text('Q [l/min],p1 [bar]\n"5,x",2\n')
+    with pytest.raises(DataFileError, match=r"'5,x' is not a number$"):  # no comma to blame
+        read_table(path)

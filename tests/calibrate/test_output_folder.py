@@ -164,7 +164,7 @@ def test_an_output_folder_under_a_file_is_refused_before_the_fit(tmp_path, capsy
 def test_an_interrupted_calibration_keeps_the_previous_report(tmp_path, monkeypatch, capsys):
     before = _previous_run(tmp_path)
 
-    def interrupted(exp, out, progress=None):
+    def interrupted(exp, out, progress=None, warn=None):
         (out / "report.json").write_text("{\"new\": true}")
         raise KeyboardInterrupt
 

@@ -178,7 +178,7 @@ def test_only_refits_that_pass_and_lie_near_the_best_are_tried_from_more_starts(
 
     def fake_refit(model, x0, column, base, score):
         key = score.place.key
-        fitted = SimpleNamespace(run_failure=lambda beyond: "")
+        fitted = SimpleNamespace(run_failure=lambda beyond: "", n=100, p=3)  # degrees of freedom left
         return selection.Refit(score, None, fitted, z[key], 1.0, first[key] - 5.0, first[key], True)
 
     def fake_restarted(rf):

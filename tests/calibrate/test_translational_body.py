@@ -86,8 +86,8 @@ def _refit(key, phi, se, dbic, plausible):
     from blocks.calibrate.selection import Refit
 
     place = SimpleNamespace(key=key, unit="N*s/m", plausible=(0.0, 1000.0), zero=0.0, lower=0.0, upper=1e9)
-    return Refit(SimpleNamespace(place=place), None, SimpleNamespace(run_failure=lambda beyond: ""), phi, se,
-                 dbic, dbic, plausible)
+    return Refit(SimpleNamespace(place=place), None, SimpleNamespace(run_failure=lambda beyond: "", n=100, p=3), phi,
+                 se, dbic, dbic, plausible)
 
 
 def test_a_fit_refused_only_as_implausible_is_said_in_the_verdict():
