@@ -409,13 +409,7 @@ def plot_residuals(cal, path: Path) -> None:
             ci = [c.name for c in stage.model.channels].index(ch.name)
             sel = stage.model.row_channel == ci
             r = stage.fit.r[sel]
-            if against == "t" or against is None:
-                x = cal.data.t if cal.data.kind == "time" else np.arange(cal.data.n)
-                xlabel = "t [s]" if cal.data.kind == "time" else "point"
-            else:
-                unit = next(c.unit for c in cal.exp.channels if c.name == against)
-                x = cal.data.measured[against] / _factor(unit)
-                xlabel = f"{against} [{unit}] (measured)"
+            x, xlabel = _axis(cal, against)
             if cal.data.kind == "steady" or len(cal.data.groups) > 1:  # by group (steady points, or runs)
                 marker, size = ("o", 4) if cal.data.kind == "steady" else (".", 1.5)
                 for label, idx in cal.data.groups.items():
@@ -442,6 +436,19 @@ def plot_residuals(cal, path: Path) -> None:
     fig.tight_layout()
     atomic_write_figure(fig, path)
     plt.close(fig)
+
+
+def _axis(cal, against: str | None) -> tuple[np.ndarray, str]:
+    """The x values and label of a residual plot drawn against ``against`` (a Place's plot_against): t (or
+    the point number), a measured channel, or the difference "a - b" of two (a pressure drop), in the first
+    channel's display unit."""
+    channels = {c.name: c for c in cal.exp.channels}
+    parts = against.split(" - ") if against else []
+    if not parts or not all(p in channels for p in parts):
+        return ((cal.data.t, "t [s]") if cal.data.kind == "time" else (np.arange(cal.data.n), "point"))
+    unit = channels[parts[0]].unit
+    x = cal.data.measured[parts[0]] - (cal.data.measured[parts[1]] if len(parts) > 1 else 0.0)
+    return x / _factor(unit), f"{against} [{unit}] (measured)"
 
 
 def plot_latent_traces(cal, traces: list[dict], path: Path) -> None:
