@@ -11,6 +11,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
+from blocks.calibrate.outliers import largest
 from blocks.calibrate.selection import LINEARISED, several_minima
 from blocks.result import atomic_write_figure, atomic_write_text
 from blocks.units import UnitError, display_factor
@@ -177,6 +178,7 @@ def build(cal) -> dict:
                       "refitted": t.refitted, "removed": t.removed, "reasons": t.reasons,
                       "netlist": str(t.netlist) if t.netlist else None} for t in cal.removals],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
+        "largest_residuals": largest(exp, data, cal.final) if cal.final else None,
     }
 
 
@@ -260,6 +262,7 @@ def markdown(cal, info: dict) -> str:
                     t = r.get(f"structure_{tag}")
                     cells += [f"{_g(t['chi2'], 3)} ({t['dof']})", _g(t["p_value"], 2)] if t else ["-", "-"]
                 L.append(f"| {r['channel']} | " + " | ".join(cells) + " |")
+    L += residual_table(info["largest_residuals"], data.kind == "time", len(data.groups) > 1, exp.spec.group)
     L += ["", "## Effects found", ""]
     if info["effects"]:
         L += ["| effect | where | parameter | value | SE | unit | in the final fit |", "|---|---|---|---|---|---|---|"]
@@ -383,6 +386,31 @@ def markdown(cal, info: dict) -> str:
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
           + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
     return "\n".join(L)
+
+
+def residual_table(info: dict | None, time: bool, groups: bool, group: str | None) -> list[str]:
+    """The markdown of the final fit's largest normalised residuals (blocks.calibrate.outliers)."""
+    if not info or not info["rows"]:
+        return []
+    n, c, k = info["residuals"], info["bound"], info["beyond_bound"]
+    L = ["", "## Largest normalised residuals (final model)", "",
+         f"The {len(info['rows'])} largest of the final fit's {n} residuals (outputs and imposed inputs' readings; "
+         f"residual / sigma = (fitted - measured) / noise). For {n} residuals of a right model, |residual / sigma| "
+         f"over {c:.3g} comes by chance in 1 % of experiments (Phi^-1(1 - 0.005/{n}): two-sided, Bonferroni over "
+         f"all {n}); "
+         + ("none is beyond it." if k == 0 else
+            f"{k} {'is' if k == 1 else 'are'} beyond it: check {'that reading' if k == 1 else 'those readings'} "
+            f"(file:line) before reading the fit, since a gross error pulls every estimate."), "",
+         "| channel | data file:line | " + ("t [s] | " if time else "") + (f"{'run' if time else group or 'group'} | "
+                                                                              if groups else "")
+         + "measured | fitted | unit | residual / sigma |",
+         "|---|---|" + ("---|" if time else "") + ("---|" if groups else "") + "---|---|---|---|"]
+    for r in info["rows"]:
+        L.append(f"| {r['channel']}{' (imposed)' if r['role'] == 'input' else ''} | {r['where']} | "
+                 + (f"{_g(r['t'], 6)} | " if time else "") + (f"{r['group']} | " if groups else "")
+                 + f"{_g(r['measured'], 6)} | {_g(r['fitted'], 6)} | {r['unit'] or '1'} | {r['z']:+.3g}"
+                 + (" **beyond**" if r["beyond_bound"] else "") + " |")
+    return L
 
 
 def plot_residuals(cal, path: Path) -> None:

@@ -1,0 +1,108 @@
+"""What a first user's review asked of the calibration report: the largest normalised residuals by data file
+and line, with a verdict line when one is beyond what their number makes plausible (a gross error in one
+reading); plots of the model against the data (fit.png); the conventions behind the numbers; fitted values in
+calibrated.yaml to the digits their standard errors warrant. None of it changes what the calibration computes."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import numpy as np
+import pytest
+from scipy import stats as sps
+
+import cli
+from blocks.calibrate import outliers
+from tests.calibrate.test_calibrate_end_to_end import steady_case
+
+
+def _with_outlier(tmp_path: Path, line: int, column: int, add: float) -> Path:
+    """The relief rig's steady data (no planted effect) with ``add`` added to one cell (file line, column)."""
+    exp = steady_case(tmp_path, 0.0, seed=6, only=["leakage"])
+    lines = (tmp_path / "data.csv").read_text().splitlines()
+    cells = lines[line - 1].split(",")
+    cells[column] = f"{float(cells[column]) + add:.5f}"
+    lines[line - 1] = ",".join(cells)
+    (tmp_path / "data.csv").write_text("\n".join(lines) + "\n")
+    return exp
+
+
+def test_the_bound_is_the_two_sided_one_percent_bonferroni_bound():
+    for n in (1, 48, 600, 6000):
+        c = outliers.bound(n)
+        assert n * 2 * sps.norm.sf(c) == pytest.approx(0.01, rel=1e-9)
+    assert outliers.bound(48) == pytest.approx(3.709, abs=1e-3)
+
+
+def test_a_gross_error_in_one_reading_is_named_by_file_and_line(tmp_path, capsys):
+    """p1 on line 9 of the data (a point of setting 2) read 3 bar (15 sigma) too high: the verdict keeps its
+    lines and adds one naming the reading by file and line; the report's table and report.json give it."""
+    exp = _with_outlier(tmp_path, line=9, column=2, add=3.0)
+    out = tmp_path / "out"
+    assert cli.main(["calibrate", str(exp), "-o", str(out), "-q"]) == 0
+    stdout = capsys.readouterr().out
+    report = json.loads((out / "report.json").read_text())
+    largest = report["largest_residuals"]
+    assert largest["residuals"] == 21 * 4 and largest["bound"] == pytest.approx(outliers.bound(84))
+    top = largest["rows"][0]
+    assert (top["channel"], top["file"], top["line"], top["where"], top["group"]) == ("p1", "data.csv", 9,
+                                                                                      "data.csv:9", "2")
+    assert top["beyond_bound"] and top["z"] < -largest["bound"] and top["measured"] > top["fitted"]
+    assert len(largest["rows"]) == 10 and largest["beyond_bound"] >= 1
+    z = [abs(r["z"]) for r in largest["rows"]]
+    assert z == sorted(z, reverse=True)
+    line = report["verdict"][-1]
+    assert "check the data at data.csv:9" in line and "a gross error pulls every estimate" in line, line
+    assert "data.csv:9" not in "".join(report["verdict"][:-1])  # a line of its own, after the others
+    assert line in stdout
+    text = (out / "report.md").read_text()
+    assert "## Largest normalised residuals (final model)" in text
+    assert "| p1 | data.csv:9 | 2 |" in text
+
+
+def test_a_clean_fit_names_no_reading(tmp_path):
+    exp = steady_case(tmp_path, 0.0, seed=6, only=["leakage"])
+    out = tmp_path / "out"
+    assert cli.main(["calibrate", str(exp), "-o", str(out), "-q"]) == 0
+    report = json.loads((out / "report.json").read_text())
+    assert report["largest_residuals"]["beyond_bound"] == 0
+    assert not any("gross" in v for v in report["verdict"])
+    assert "none is beyond it" in (out / "report.md").read_text()
+
+
+def test_row_places_of_several_files_follow_the_files(tmp_path):
+    """Rows of several data files: each file's own lines (comment lines counted), in the data's order."""
+    from types import SimpleNamespace
+
+    from blocks.datafile import read_table
+
+    a, b = tmp_path / "a.csv", tmp_path / "b.csv"
+    a.write_text("# rig A\nQ [l/min],p1 [bar]\n1,2\n3,4\n")
+    b.write_text("Q [l/min],p1 [bar]\n# a remark\n\n5,6\n")
+    exp = SimpleNamespace(data_files=[a, b], data=a, spec=SimpleNamespace(group=None))
+    data = SimpleNamespace(table=read_table(a), n=3)
+    assert outliers.row_places(exp, data) == [("a.csv", 3), ("a.csv", 4), ("b.csv", 4)]
+    assert outliers.where(("a.csv", None), 4) == "a.csv row 5"
+
+
+def test_a_fitted_value_lost_beside_a_huge_reading_is_not_shown():
+    """A typo of 2.3e30 bar: the fitted value, reading + z*sigma, is lost in the rounding; shown as unknown
+    rather than as 0."""
+    from types import SimpleNamespace
+
+    sigma = 2e4
+    measured = np.array([2.312e35, 2.0e6])
+    r = np.array([-measured[0] / sigma, 0.5])
+    ch = SimpleNamespace(name="p1", role="output", unit="bar")
+    model = SimpleNamespace(channels=[ch], row_channel=np.array([0, 0]), row_point=np.array([0, 1]),
+                            measured=measured, row_sigma=np.full(2, sigma))
+    stage = SimpleNamespace(model=model, fit=SimpleNamespace(rows=np.ones(2, bool), r=r))
+    data = SimpleNamespace(n=2, kind="steady", groups={"all": [0, 1]}, labels=["all", "all"], t=None,
+                           table=SimpleNamespace(lines=[2, 3]))
+    exp = SimpleNamespace(data_files=[], data=Path("s.csv"), spec=SimpleNamespace(group=None))
+    info = outliers.largest(exp, data, stage)
+    assert info["rows"][0]["fitted"] is None and info["rows"][1]["fitted"] == pytest.approx(20.1)
+    assert info["rows"][0]["where"] == "s.csv:2" and info["beyond_bound"] == 1
+    line = outliers.verdict_line(info)[0]
+    assert line.startswith("gross residual: p1 at s.csv:2 is 1.16e+31 sigma off the final fit (measured 2.312e+30 bar)")
