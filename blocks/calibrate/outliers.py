@@ -92,7 +92,8 @@ def largest(exp, data, stage, shown: int = SHOWN) -> dict:
         if 4.0 * np.finfo(float).eps * max(abs(measured), abs(fitted)) > 1e-3 * sigma:
             fitted = None  # lost in the rounding beside a reading of 1e30 (the residual itself is exact)
         file, line = places[point]
-        rows.append({"channel": ch.name, "role": ch.role, "file": file, "line": line, "where": where(places[point], point),
+        rows.append({"channel": ch.name, "role": ch.role, "file": file, "line": line,
+                     "where": where(places[point], point),
                      "point": point, "t": float(data.t[point]) if data.kind == "time" else None,
                      "group": data.labels[point] if groups else None, "unit": ch.unit,
                      "measured": measured / f, "fitted": None if fitted is None else fitted / f, "z": float(res.r[row]),
@@ -112,8 +113,8 @@ def verdict_line(info: dict) -> list[str]:
     checks = ", ".join(dict.fromkeys(r["where"] for r in beyond))
     if k == 1:
         r = beyond[0]
-        return [f"gross residual: {r['channel']} at {r['where']} is {abs(r['z']):.3g} sigma off the final fit (measured "
-                f"{r['measured']:.6g}" + ("" if r["fitted"] is None else f", fitted {r['fitted']:.6g}")
+        return [f"gross residual: {r['channel']} at {r['where']} is {abs(r['z']):.3g} sigma off the final fit "
+                f"(measured {r['measured']:.6g}" + ("" if r["fitted"] is None else f", fitted {r['fitted']:.6g}")
                 + f"{_unit(r['unit'])}), {bound_said}: the fit may be pulled "
                 f"by it; check the data at {checks}; a gross error pulls every estimate"]
     named = "; ".join(f"{r['channel']} at {r['where']} ({abs(r['z']):.3g} sigma)" for r in beyond)

@@ -1,6 +1,7 @@
-"""The calibration report: ``report.md`` (for people), ``report.json`` (the same numbers for programs) and
-``residuals.png`` (residuals against the variable the found effect depends on, before and after), all
-written atomically into the output folder beside the screening and augmented netlists.
+"""The calibration report: ``report.md`` (for people), ``report.json`` (the same numbers for programs),
+``residuals.png`` (residuals against the variable the found effect depends on, before and after) and
+``fit.png`` (the declared and final models against the data), all written atomically into the output folder
+beside the screening and augmented netlists.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
+from blocks.calibrate.fit import ran_rows
 from blocks.calibrate.outliers import largest
 from blocks.calibrate.selection import LINEARISED, several_minima
 from blocks.result import atomic_write_figure, atomic_write_text
@@ -382,7 +384,14 @@ def markdown(cal, info: dict) -> str:
             L.append(f"| {t['check']} | {t['effect']} ({t['round']}) | {_g(t['z'], 3)} | {_g(t['dbic'], 4)} | "
                      f"{t['refitted']} | {t['removed']} | {'; '.join(t['reasons'])} |")
         L.append("")
-    L += ["## Plots", "", "![residuals](residuals.png)", "",
+    L += ["## Plots", ""] + (["![model against data](fit.png)", "",
+                              "`fit.png`: the model against the data, declared (dashed) and final (solid): "
+                              + ("each compared output's reading and both models' simulated traces against t."
+                                 if data.kind == "time" else
+                                 f"each compared output against {exp.inputs[0].name if exp.inputs else 'the point'}"
+                                 f", the readings with error bars of one noise sigma, each model's fitted values at "
+                                 f"the points' fitted inputs."), ""] if cal.initial and cal.final else []) + [
+          "![residuals](residuals.png)", "",
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
           + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
     return "\n".join(L)
@@ -466,6 +475,103 @@ def plot_residuals(cal, path: Path) -> None:
     plt.close(fig)
 
 
+FIT_RUNS = 4  # runs of a time series drawn in fit.png (one column each), the first ones
+
+
+def _fitted(stage, name: str) -> np.ndarray:
+    """A channel's fitted values at every point or sample (SI): the reading plus the residual times the noise,
+    what the stage's model predicts of the reading (sensor corrections in); NaN where its run failed."""
+    model, res = stage.model, stage.fit
+    ci = [c.name for c in model.channels].index(name)
+    sel = np.nonzero(model.row_channel == ci)[0]
+    r = res.r[sel]
+    out = model.measured[sel] + r * model.row_sigma[sel]
+    return np.where(ran_rows(r), out, np.nan)
+
+
+def plot_fit(cal, path: Path) -> None:
+    """The model against the data, declared and final, from the fits' own values (no new simulation). Steady
+    points: each compared output against the first imposed input, the readings with error bars of one noise
+    sigma (both ways), each model's fitted values at the points' fitted (latent) inputs joined in order of
+    them, a colour per group. A time series: each compared output's reading and both models' traces against
+    t, a column per run (the first FIT_RUNS)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    exp, data = cal.exp, cal.data
+    stages = (("declared", cal.initial, "--"), ("final", cal.final, "-"))
+    outputs = list(exp.outputs)
+    if data.kind == "time":
+        runs = list(data.groups.items())[:FIT_RUNS]
+        fig, axes = plt.subplots(len(outputs), len(runs), figsize=(4.0 + 3.5 * len(runs), 1.2 + 2.4 * len(outputs)),
+                                 squeeze=False, sharex="col")
+        for row, ch in enumerate(outputs):
+            f = _factor(ch.unit)
+            fitted = {tag: _fitted(stage, ch.name) / f for tag, stage, _ in stages}
+            for col, (label, idx) in enumerate(runs):
+                ax = axes[row, col]
+                t = data.t[idx]
+                ax.plot(t, data.measured[ch.name][idx] / f, ".", ms=2, color="grey", label="measured")
+                for tag, stage, style in stages:
+                    ax.plot(t, fitted[tag][idx], style, lw=1.0, color="C1" if tag == "declared" else "C0",
+                            label=f"{tag} model (chi^2/nu = {stage.lof.reduced:.3g})")
+                if row == 0 and len(data.groups) > 1:
+                    ax.set_title(f"run {label}", fontsize="small")
+                if col == 0:
+                    ax.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
+                if row == len(outputs) - 1:
+                    ax.set_xlabel("t [s]")
+                ax.grid(True, alpha=0.3)
+        axes[0, 0].legend(fontsize="x-small")
+        shown = f" (the first {len(runs)} of {len(data.groups)} runs)" if len(data.groups) > len(runs) else ""
+        title = f"{Path(exp.file).name}: measured and simulated{shown}"
+    else:
+        source = exp.inputs[0] if exp.inputs else None
+        fig, axes = plt.subplots(len(outputs), 1, figsize=(9, 1.2 + 3.0 * len(outputs)), squeeze=False, sharex="col")
+        groups = list(data.groups.items())
+        for row, ch in enumerate(outputs):
+            ax = axes[row, 0]
+            f = _factor(ch.unit)
+            if source is not None:
+                fx = _factor(source.unit)
+                x, xerr = data.measured[source.name] / fx, data.sigma[source.name] / fx
+                at = {tag: _fitted(stage, source.name) / fx for tag, stage, _ in stages}
+            else:  # nothing imposed: the points in their order
+                x, xerr = np.arange(data.n, dtype=float), None
+                at = {tag: x for tag, _, _ in stages}
+            y = {tag: _fitted(stage, ch.name) / f for tag, stage, _ in stages}
+            for k, (label, idx) in enumerate(groups):
+                color = f"C{k % 10}" if len(groups) > 1 else "C0"
+                ax.errorbar(x[idx], data.measured[ch.name][idx] / f, yerr=data.sigma[ch.name] / f, xerr=xerr, fmt="o",
+                            ms=3, color=color, elinewidth=0.8, capsize=1.5,
+                            label=f"{exp.spec.group or 'group'} {label}" if len(groups) > 1 else "measured (+- sigma)")
+                for tag, stage, style in stages:
+                    order = idx[np.argsort(at[tag][idx], kind="stable")]
+                    ax.plot(at[tag][order], y[tag][order], style, marker="." if tag == "final" else None, ms=3,
+                            lw=1.0, color=color, alpha=1.0 if tag == "final" else 0.6)
+            ax.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
+            ax.grid(True, alpha=0.3)
+        axes[-1, 0].set_xlabel(f"{source.name} [{source.unit or '1'}] (measured; models at their fitted values)"
+                               if source is not None else "point")
+        from matplotlib.lines import Line2D
+
+        handles = axes[0, 0].get_legend_handles_labels()[0] + [
+            Line2D([], [], ls=style, color="k", marker="." if tag == "final" else None, ms=3, lw=1.0,
+                   label=f"{tag} model")
+            for tag, _, style in stages]
+        axes[0, 0].legend(handles=handles, fontsize="x-small", ncol=1 if len(groups) == 1 else 2)
+        title = (f"{Path(exp.file).name}: measured and fitted, declared model (dashed, chi^2/nu = "
+                 f"{cal.initial.lof.reduced:.3g}) and final (solid, {cal.final.lof.reduced:.3g})")
+    import textwrap
+
+    fig.suptitle(textwrap.fill(title, 110), fontsize="medium")
+    fig.tight_layout()
+    atomic_write_figure(fig, path)
+    plt.close(fig)
+
+
 def _axis(cal, against: str | None) -> tuple[np.ndarray, str]:
     """The x values and label of a residual plot drawn against ``against`` (a Place's plot_against): t (or
     the point number), a measured channel, or the difference "a - b" of two (a pressure drop), in the first
@@ -521,10 +627,14 @@ def write(cal, out: Path) -> dict[str, Path]:
     out = Path(out)
     info = build(cal)
     paths = {"json": out / "report.json", "markdown": out / "report.md", "plot": out / "residuals.png"}
+    if cal.initial is not None and cal.final is not None:
+        paths["fit"] = out / "fit.png"
     if info["latent_traces"]:
         paths["traces"] = out / "latent_trace.png"
     atomic_write_text(paths["json"], json.dumps(_finite(info), indent=1, default=_json_default) + "\n")
     plot_residuals(cal, paths["plot"])
+    if "fit" in paths:
+        plot_fit(cal, paths["fit"])
     if "traces" in paths:
         plot_latent_traces(cal, info["latent_traces"], paths["traces"])
     atomic_write_text(paths["markdown"], markdown(cal, info))

@@ -59,6 +59,7 @@ def test_a_gross_error_in_one_reading_is_named_by_file_and_line(tmp_path, capsys
     text = (out / "report.md").read_text()
     assert "## Largest normalised residuals (final model)" in text
     assert "| p1 | data.csv:9 | 2 |" in text
+    assert (out / "fit.png").stat().st_size > 10000 and "![model against data](fit.png)" in text
 
 
 def test_a_clean_fit_names_no_reading(tmp_path):
@@ -106,3 +107,81 @@ def test_a_fitted_value_lost_beside_a_huge_reading_is_not_shown():
     assert info["rows"][0]["where"] == "s.csv:2" and info["beyond_bound"] == 1
     line = outliers.verdict_line(info)[0]
     assert line.startswith("gross residual: p1 at s.csv:2 is 1.16e+31 sigma off the final fit (measured 2.312e+30 bar)")
+
+
+def _fake_calibration(kind: str, runs: int):
+    """A calibration's fitted stages as fit.png reads them: two outputs (y1 in bar, y2 in l/min) and an imposed
+    input u, ``runs`` groups of 6 points or samples; the declared residuals 2, the final ones 0.5."""
+    from types import SimpleNamespace
+
+    n = 6 * runs
+    labels = [f"g{k // 6}" for k in range(n)]
+    channels = [SimpleNamespace(name="y1", role="output", unit="bar"),
+                SimpleNamespace(name="y2", role="output", unit="l/min"),
+                SimpleNamespace(name="u", role="input", unit="1")]
+    rng = np.random.default_rng(1)
+    measured = {"y1": 1e5 * rng.uniform(1, 9, n), "y2": rng.uniform(1e-4, 1e-3, n), "u": rng.uniform(0, 1, n)}
+    sigma = {"y1": 2e4, "y2": 1e-5, "u": 0.01}
+    groups = {}
+    for k, label in enumerate(labels):
+        groups.setdefault(label, []).append(k)
+    data = SimpleNamespace(kind=kind, n=n, labels=labels, groups={g: np.array(v) for g, v in groups.items()},
+                           t=np.tile(np.arange(6) * 0.1, runs) if kind == "time" else None, measured=measured,
+                           sigma=sigma)
+
+    def stage(r):
+        model = SimpleNamespace(channels=channels, row_channel=np.repeat(np.arange(3), n),
+                                row_point=np.tile(np.arange(n), 3),
+                                measured=np.concatenate([measured[c.name] for c in channels]),
+                                row_sigma=np.repeat([sigma[c.name] for c in channels], n))
+        return SimpleNamespace(model=model, fit=SimpleNamespace(r=np.full(3 * n, r)),
+                               lof=SimpleNamespace(reduced=r * r))
+
+    exp = SimpleNamespace(outputs=channels[:2], inputs=channels[2:], file="exp.yaml", spec=SimpleNamespace(group="run"))
+    return SimpleNamespace(exp=exp, data=data, initial=stage(2.0), final=stage(0.5))
+
+
+@pytest.mark.parametrize("kind, runs, columns", [("time", 1, 1), ("time", 5, 4), ("steady", 3, 1)])
+def test_fit_png_draws_the_fitted_values_of_both_models_against_the_data(monkeypatch, tmp_path, kind, runs, columns):
+    """fit.png from the fits' own values (reading + residual x sigma, no new simulation): a time series's
+    outputs against t, a column per run (the first 4); steady outputs against the imposed input, the models at
+    their fitted inputs, a colour per group."""
+    from blocks.calibrate import report
+
+    drawn = {}
+    monkeypatch.setattr(report, "atomic_write_figure", lambda fig, path: drawn.setdefault("fig", fig))
+    cal = _fake_calibration(kind, runs)
+    report.plot_fit(cal, tmp_path / "fit.png")
+    axes = drawn["fig"].axes
+    assert len(axes) == 2 * columns
+    y1 = cal.data.measured["y1"] / 1e5
+    first = axes[0].get_lines()  # [measured (or its error bar's line), declared, final] per group
+    if kind == "time":
+        t, declared, final = first[0], first[1], first[2]
+        assert np.allclose(t.get_ydata(), y1[:6]) and np.allclose(final.get_ydata(), y1[:6] + 0.5 * 0.2)
+        assert np.allclose(declared.get_ydata(), y1[:6] + 2.0 * 0.2) and np.allclose(final.get_xdata(), cal.data.t[:6])
+        titles = [ax.get_title() for ax in axes[:columns]]
+        assert titles == ([""] if runs == 1 else ["run g0", "run g1", "run g2", "run g3"])
+    else:
+        finals = [line for line in first if line.get_marker() == "." and line.get_linestyle() == "-"]
+        assert len(finals) == runs  # one per group
+        u = cal.data.measured["u"][:6] + 0.5 * 0.01  # the final fit's input at the points
+        order = np.argsort(u)
+        assert np.allclose(finals[0].get_xdata(), u[order])
+        assert np.allclose(finals[0].get_ydata(), (y1[:6] + 0.5 * 0.2)[order])
+        assert len({line.get_color() for line in finals}) == runs
+
+
+def test_residuals_png_draws_a_pressure_drop_on_its_x_axis():
+    """A leakage across two measured nets is plotted against the drop between them (plot_against "a - b")."""
+    from types import SimpleNamespace
+
+    from blocks.calibrate.report import _axis
+
+    channels = [SimpleNamespace(name="p2", unit="bar"), SimpleNamespace(name="p3", unit="bar")]
+    data = SimpleNamespace(kind="steady", n=2, t=None,
+                           measured={"p2": np.array([3e5, 4e5]), "p3": np.array([1e5, 1.5e5])})
+    cal = SimpleNamespace(exp=SimpleNamespace(channels=channels), data=data)
+    x, label = _axis(cal, "p2 - p3")
+    assert np.allclose(x, [2.0, 2.5]) and label == "p2 - p3 [bar] (measured)"
+    assert np.allclose(_axis(cal, "p3")[0], [1.0, 1.5]) and _axis(cal, "t")[1] == "point"
