@@ -181,6 +181,8 @@ def build(cal) -> dict:
                       "netlist": str(t.netlist) if t.netlist else None} for t in cal.removals],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
         "largest_residuals": largest(exp, data, cal.final) if cal.final else None,
+        "se_scale": {tag: (float(np.sqrt(st.fit.inflation)) if st else None)
+                     for tag, st in (("before", cal.initial), ("after", cal.final))},
     }
 
 
@@ -222,8 +224,9 @@ def markdown(cal, info: dict) -> str:
                         if o["heldout_knots_propagated"] else "")
                      + f" ({o['heldout_scheme']}"
                      + (f"; folds whose refit did not converge: {', '.join(o['heldout_unconverged_folds'])}"
-                        if o["heldout_unconverged_folds"] else "") + "); unsettled points: "
-                     f"{o['unsettled_points']}" + _lengthened(o['lengthened_runs'])
+                        if o["heldout_unconverged_folds"] else "") + ")"
+                     + (f"; unsettled points: {o['unsettled_points']}" if data.kind == "steady" else "")
+                     + _lengthened(o['lengthened_runs'])
                      + ("" if o["fit_converged"] else f"; the fit stopped at its limit of {o['fit_evaluations']} "
                                                       f"evaluations before converging"))
     L += ["", "| channel | unit | noise | RMSE before | chi^2/nu before | RMSE after | chi^2/nu after | "
@@ -264,6 +267,7 @@ def markdown(cal, info: dict) -> str:
                     t = r.get(f"structure_{tag}")
                     cells += [f"{_g(t['chi2'], 3)} ({t['dof']})", _g(t["p_value"], 2)] if t else ["-", "-"]
                 L.append(f"| {r['channel']} | " + " | ".join(cells) + " |")
+    L += conventions(info, data.kind)
     L += residual_table(info["largest_residuals"], data.kind == "time", len(data.groups) > 1, exp.spec.group)
     L += ["", "## Effects found", ""]
     if info["effects"]:
@@ -395,6 +399,36 @@ def markdown(cal, info: dict) -> str:
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
           + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
     return "\n".join(L)
+
+
+def conventions(info: dict, kind: str) -> list[str]:
+    """How the report's numbers are made: standard errors, chi^2/nu per channel, the screening's absorbed
+    share, unsettled points (steady)."""
+    scale = info["se_scale"]
+    said = "; ".join(f"{'declared' if tag == 'before' else 'final'} fit: x {scale[tag]:.3g}"
+                     + (" (not scaled: chi^2/nu <= 1)" if scale[tag] <= 1.0 else "")
+                     for tag in ("before", "after") if scale.get(tag) is not None)
+    L = ["", "## How to read the numbers", "",
+         "- Standard errors (SE): from the fit's Jacobian of the normalised residuals, (J^T J)^-1, multiplied by "
+         "chi^2/nu whenever chi^2/nu is over 1 (significant or not), so every SE is multiplied by sqrt(chi^2/nu) "
+         "and a misfit never makes a parameter look better determined than the data say; below 1 they are not "
+         "shrunk. chi^2/nu here is over the rows whose runs ran. " + (f"Here: {said}. " if said else "")
+         + "Each refit in the screening tables, and each per-group drift estimate, is scaled by its own fit's "
+         "chi^2/nu.",
+         "- chi^2/nu per channel: the channel's chi^2 over its share of the degrees of freedom, chi^2_c / (n_c nu "
+         "/ n): nu = n - p (residual rows less fitted parameters, the latent inputs' included) shared out in "
+         "proportion to each channel's rows n_c; so the channels' shares add up to nu and each is ~1 for a model "
+         "that fits to the noise. The overall chi^2/nu is chi^2 / nu.",
+         "- The screening tables' 'absorbed' column: the share of the candidate's effect on the normalised "
+         "residuals (its squared sensitivity, |s|^2) that the free parameters already fitted (declared, latent "
+         "inputs, effects accepted earlier) can reproduce, 1 - |s_perp|^2 / |s|^2; its score T is what is left. "
+         "Over 99.9 % the candidate is 'not identifiable' and the parameters that absorb it are named in its note."]
+    if kind == "steady":
+        L.append("- Unsettled points: steady points read at the end of a settling run (no usable equilibrium, or "
+                 "steady.method: settle) whose compared signals still moved by more than steady.settle_tol times "
+                 "their noise over its last 20 %, the run lengthened up to steady.t_max; they are still used, and "
+                 "counted so that they are not taken for steady.")
+    return L
 
 
 def residual_table(info: dict | None, time: bool, groups: bool, group: str | None) -> list[str]:

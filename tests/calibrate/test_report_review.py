@@ -14,7 +14,7 @@ from scipy import stats as sps
 
 import cli
 from blocks.calibrate import outliers
-from tests.calibrate.test_calibrate_end_to_end import steady_case
+from tests.calibrate.test_calibrate_end_to_end import ROOT, steady_case
 
 
 def _with_outlier(tmp_path: Path, line: int, column: int, add: float) -> Path:
@@ -185,3 +185,34 @@ def test_residuals_png_draws_a_pressure_drop_on_its_x_axis():
     x, label = _axis(cal, "p2 - p3")
     assert np.allclose(x, [2.0, 2.5]) and label == "p2 - p3 [bar] (measured)"
     assert np.allclose(_axis(cal, "p3")[0], [1.0, 1.5]) and _axis(cal, "t")[1] == "point"
+
+
+def test_the_report_states_its_conventions(tmp_path):
+    """How SEs are scaled (and by how much here), how chi^2/nu is shared between channels, what 'absorbed'
+    means; a time series's report says nothing of unsettled points (a steady notion), a steady one does."""
+    from blocks.calibrate.experiment import load_experiment
+    from blocks.calibrate.report import write
+    from blocks.calibrate.run import calibrate
+
+    exp = load_experiment(ROOT / "netlists" / "experiments" / "drive_line_series.yaml")
+    exp.spec.trace.only = ["sensor_offset"]  # no simulation to screen: a short test
+    cal = calibrate(exp, tmp_path / "time", rounds=1, with_heldout=False)
+    paths = write(cal, tmp_path / "time")
+    text, info = paths["markdown"].read_text(), json.loads(paths["json"].read_text())
+    assert "unsettled" not in text.lower()
+    assert info["overall"]["after"]["unsettled_points"] == 0  # report.json keeps its field
+    scale = info["se_scale"]
+    assert scale["before"] == pytest.approx(np.sqrt(cal.initial.lof.reduced)) and scale["before"] > 1
+    assert f"declared fit: x {scale['before']:.3g}" in text
+    assert "## How to read the numbers" in text and "multiplied by sqrt(chi^2/nu)" in text
+    assert "chi^2_c / (n_c nu / n)" in text and "'absorbed' column" in text
+    assert paths["fit"].stat().st_size > 10000
+    assert "| channel | data file:line | t [s] | measured |" in text  # the largest residuals, with their times
+    rows = info["largest_residuals"]["rows"]
+    assert all(r["file"] == "drive_line_series.csv" and r["line"] == r["point"] + 4 for r in rows)  # 2 comments, header
+    assert all(r["t"] == pytest.approx(cal.data.t[r["point"]]) for r in rows)
+    # steady points: unsettled points are said, and what they are
+    out = tmp_path / "steady"
+    assert cli.main(["calibrate", str(steady_case(tmp_path, 0.0, seed=6, only=["leakage"])), "-o", str(out), "-q"]) == 0
+    text = (out / "report.md").read_text()
+    assert "; unsettled points: 0" in text and "- Unsettled points: steady points read at the end" in text
