@@ -287,7 +287,10 @@ def markdown(cal, info: dict) -> str:
                   f"at its final value" + (" and the fitted command: `vphs run` reproduces the fit (sensor "
                                            "corrections aside)." if one_run else
                                            ": `vphs run` simulates the calibrated model at the netlist's own "
-                                           "inputs (the experiment's differ point by point or run by run).")]
+                                           "inputs (the experiment's differ point by point or run by run).")
+              + " Its values are given to the digits their standard errors warrant plus 2 (at least 4 significant), "
+                "each with its SE in the file's header; the rounds' augmented netlists keep every digit (the next "
+                "round, the checks and a continued calibration read them)."]
     L += ["", "## Parameters: how they moved", "",
           "| parameter | kind | unit | start | declared fit | SE | final | SE |", "|---|---|---|---|---|---|---|---|"]
     for p in info["parameters"]:

@@ -43,7 +43,7 @@ from blocks.calibrate.heldout import HeldOut, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
-from blocks.calibrate.patch import NetlistDoc, written
+from blocks.calibrate.patch import NetlistDoc, rounded, written
 from blocks.calibrate.screening import Score, screen
 from blocks.calibrate.selection import Decision, better_start, decide
 from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
@@ -187,27 +187,41 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
 
 def write_calibrated(cal: Calibration) -> Path | None:
     """``calibrated.yaml``: the final model's netlist with every fitted parameter (the declared free ones,
-    the effects found) at its final value and the experiment's overrides in, so that ``vphs run`` simulates
-    the calibrated model. A time series of one run gets its fitted command too (the latent levels, or the
-    profile through a recorded trace's knots): run, it reproduces the final fit. Steady points and runs of
-    several keep the netlist's own inputs and per-group values (the experiment's differ point by point, run
-    by run), and so do parameters fitted per group (named in the header). Sensor corrections act on the data,
-    not the netlist. A fitted parameter that is neither a netlist parameter nor a component's (one inside a
-    subsystem) is listed in the header as not set."""
+    the effects found) at its final value, to the digits its standard error warrants plus 2
+    (:func:`blocks.calibrate.patch.rounded`; the SE beside it in the header), and the experiment's overrides
+    in, so that ``vphs run`` simulates the calibrated model. A time series of one run gets its fitted command
+    too (the latent levels, or the profile through a recorded trace's knots): run, it reproduces the final fit
+    (to a small fraction of the noise, its values rounded). Steady points and runs of several keep the
+    netlist's own inputs and per-group values (the experiment's differ point by point, run by run), and so do
+    parameters fitted per group (named in the header). Sensor corrections act on the data, not the netlist. A
+    fitted parameter that is neither a netlist parameter nor a component's (one inside a subsystem) is listed
+    in the header as not set."""
     if cal.final is None:
         return None
     doc = NetlistDoc.read(cal.final.netlist)
-    x = cal.final.fit.x
+    x, se, layout = cal.final.fit.x, cal.final.fit.se, cal.final.model.layout
     one_run = cal.data.kind == "time" and len(cal.data.groups) <= 1  # its fitted inputs are the netlist's too
     kinds = ("declared", "candidate") + (("latent",) if one_run else ())
+    # each fitted value to the digits its SE warrants plus 2 (patch.rounded): this file is for people and
+    # `vphs run`; nothing of the calibration reads it again (the rounds' netlists keep every digit)
+    fitted = [(k, g) for k, g in enumerate(layout.globals) if g.kind in kinds and g.run is None]
     values = [(name, value) for name, value in cal.exp.overrides.items()] + [
-        (g.name, written(float(x[k]), g.unit))
-        for k, g in enumerate(cal.final.model.layout.globals) if g.kind in kinds and g.run is None]
-    per_group = [g.name for g in cal.final.model.layout.globals if g.kind == "declared" and g.run is not None]
+        (g.name, rounded(float(x[k]), float(se[k]), g.unit)) for k, g in fitted]
+    errors = {g.name: _se_text(float(se[k]), g.unit) for k, g in fitted}
+    per_group = [g.name for g in layout.globals if g.kind == "declared" and g.run is not None]
+
+    def knot_se(name: str) -> float:
+        try:
+            return float(se[layout.index(name)])
+        except KeyError:  # the first and last knot times are the recording's, not fitted
+            return float("nan")
+
     if one_run:  # a recorded command: the profile through the fitted knots instead of the recording
         for (profile, _run), (times, knots) in cal.final.model.trace_knots(x).items():
-            values += [(f"{profile}.times", [float(t) for t in times]),
-                       (f"{profile}.values", [float(v) for v in knots])]
+            values += [(f"{profile}.times", [rounded(float(t), knot_se(f"{profile}.times[knot {j}]"))
+                                             for j, t in enumerate(times, start=1)]),
+                       (f"{profile}.values", [rounded(float(v), knot_se(f"{profile}.values[knot {j}]"))
+                                              for j, v in enumerate(knots, start=1)])]
     parameters, components, missed = doc.section("parameters"), doc.section("components"), []
     for name, value in values:
         component, _, param = name.rpartition(".")
@@ -217,7 +231,7 @@ def write_calibrated(cal: Calibration) -> Path | None:
             doc.set_param(component, param, value)
         else:
             missed.append(name)
-    fitted = "".join(f"\n  {n} = {v if not isinstance(v, list) else f'({len(v)} knots)'}"
+    fitted = "".join(f"\n  {n} = {v if not isinstance(v, list) else f'({len(v)} knots)'}{errors.get(n, '')}"
                      for n, v in values[len(cal.exp.overrides):]) or " none"
     inputs = ("The command is the fitted one (its latent levels or knots): `vphs run` reproduces the fit, sensor "
               "corrections aside." if one_run else
@@ -225,12 +239,22 @@ def write_calibrated(cal: Calibration) -> Path | None:
               "netlist's own: `vphs run` simulates the calibrated model at those.")
     target = cal.out / "calibrated.yaml"
     doc.write(target, header=f"Calibrated by vphs calibrate for {Path(cal.exp.file).name}: {cal.final.netlist.name} "
-                             f"with the experiment's overrides and every fitted parameter at its final value:{fitted}"
+                             f"with the experiment's overrides and every fitted parameter at its final value, to "
+                             f"the digits its standard error warrants plus 2 (at least 4):{fitted}"
                              f"\n{inputs}" + (f"\nNot set here (not a netlist or component parameter): "
                                                f"{', '.join(missed)}." if missed else "")
                              + (f"\nFitted per group, so not set here (the report gives each): "
                                 f"{', '.join(per_group)}." if per_group else ""))
     return target
+
+
+def _se_text(se: float, unit: str) -> str:
+    """' +- 4.1e-05' after a value in calibrated.yaml's header (its display unit is the value's)."""
+    from blocks.units import display_factor
+
+    if not np.isfinite(se):
+        return " (not fixed by the data)" if np.isinf(se) else ""
+    return f" +- {se / (1.0 if unit in ('', '1', 'SI') else display_factor(unit)):.2g}"
 
 
 def refuse_to_overwrite_inputs(exp: Experiment, out: Path) -> None:

@@ -153,8 +153,8 @@ def test_time_series_coulomb_friction_is_found(tmp_path):
     model, fit = cal.final.model, cal.final.fit
     rows = model.row_channel == [c.name for c in model.channels].index("speed")
     predicted = cal.data.measured["speed"] + fit.r[rows] * cal.data.sigma["speed"]
-    run = Circuit.from_file(cal.calibrated).simulate()
-    assert np.allclose(np.interp(cal.data.t, run.t, run["speed"]), predicted, atol=1e-3 * cal.data.sigma["speed"])
+    run = Circuit.from_file(cal.calibrated).simulate()  # its values rounded to a hundredth of their SE or finer
+    assert np.allclose(np.interp(cal.data.t, run.t, run["speed"]), predicted, atol=0.02 * cal.data.sigma["speed"])
     # the effect's parameter is written in its unit, in the round's netlist and as the written experiment's
     # start and bounds (a rerun used to show it in "SI"); the levels of the dimensionless command in "1"
     value = cal.final.fit.x[k]
@@ -314,8 +314,9 @@ def test_the_calibrated_netlist_simulates_what_was_fitted(tmp_path):
     cal = calibrate(exp, tmp_path / "out", with_heldout=False)
     assert [a[0] for a in cal.accepted] == ["flow_force@relief"]
     doc = yaml.safe_load(cal.calibrated.read_text())
-    k_s = cal.final.fit.x[cal.final.model.layout.index("k_s")]
-    assert float(doc["parameters"]["k_s"].removesuffix(" bar")) * 1e5 == pytest.approx(k_s, rel=1e-12)
+    j = cal.final.model.layout.index("k_s")
+    k_s, se = cal.final.fit.x[j], cal.final.fit.se[j]  # written to two digits past its SE's first
+    assert float(doc["parameters"]["k_s"].removesuffix(" bar")) * 1e5 == pytest.approx(k_s, abs=0.005 * se)
     model, fit = cal.final.model, cal.final.fit
     circuit = Circuit.from_file(cal.calibrated)
     channel = [c.name for c in model.channels].index("p1")
@@ -325,5 +326,6 @@ def test_the_calibrated_netlist_simulates_what_was_fitted(tmp_path):
         run = circuit.simulate({"Q_in": q, "p_set": SETTINGS[setting]})
         row = np.nonzero((model.row_channel == channel) & (model.row_point == point))[0][0]
         predicted = cal.data.measured["p1"][point] + fit.r[row] * cal.data.sigma["p1"]
-        # with the declared values of round1/augmented.yaml instead, it misses by 0.3 to 1.2 sigma
-        assert run["p1"][-1] == pytest.approx(predicted, abs=1e-3 * cal.data.sigma["p1"])
+        # with the declared values of round1/augmented.yaml instead, it misses by 0.3 to 1.2 sigma; with the values
+        # rounded to a hundredth of their SE or finer, by far less than the noise
+        assert run["p1"][-1] == pytest.approx(predicted, abs=0.02 * cal.data.sigma["p1"])

@@ -142,8 +142,8 @@ def test_the_recordings_noise_biases_the_friction_unless_the_trace_is_latent(tmp
         model, fit = cal.final.model, cal.final.fit
         rows = model.row_channel == [c.name for c in model.channels].index("speed")
         predicted = cal.data.measured["speed"] + fit.r[rows] * cal.data.sigma["speed"]
-        run = Circuit.from_file(cal.calibrated).simulate()
-        assert np.allclose(np.interp(cal.data.t, run.t, run["speed"]), predicted, atol=1e-3 * cal.data.sigma["speed"])
+        run = Circuit.from_file(cal.calibrated).simulate()  # its values rounded to a hundredth of their SE or finer
+        assert np.allclose(np.interp(cal.data.t, run.t, run["speed"]), predicted, atol=0.02 * cal.data.sigma["speed"])
     else:  # the premise: the recording imposed exactly biases the friction and leaves a misfit
         assert abs(value - 3.0) > 3.0 * se, f"{value} +- {se}"
         assert verdict(cal)[1] and "traces" not in paths

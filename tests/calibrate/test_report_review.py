@@ -216,3 +216,43 @@ def test_the_report_states_its_conventions(tmp_path):
     assert cli.main(["calibrate", str(steady_case(tmp_path, 0.0, seed=6, only=["leakage"])), "-o", str(out), "-q"]) == 0
     text = (out / "report.md").read_text()
     assert "; unsettled points: 0" in text and "- Unsettled points: steady points read at the end" in text
+
+
+@pytest.mark.parametrize("value, se, unit, text", [
+    (0.004986927365810372, 4.1e-5, "kg*m^2", "0.0049869 kg*m^2"),  # the review's example
+    (3.00722455637188, 0.041, "N*m", "3.0072 N*m"),
+    (59.1181234567e5, 0.0123e5, "bar", "59.1181 bar"),  # in its display unit
+    (2.88123456e-11, 3.7e-12, "m^3/(s*Pa)", "2.881e-11 m^3/(s*Pa)"),  # never fewer than 4 digits
+    (0.0012345678, 0.5, "", 0.001235),  # an SE larger than the value: 4 digits
+    (123.456789, float("inf"), "", 123.5),  # not fixed by the data: 4 digits
+    (0.1234567891234, float("nan"), "", 0.1234567891234),  # no SE: every digit
+    (0.0, 1e-3, "", 0.0)])
+def test_a_fitted_value_is_written_to_the_digits_its_standard_error_warrants_plus_two(value, se, unit, text):
+    from blocks.calibrate.patch import rounded
+
+    assert rounded(value, se, unit) == text
+
+
+def test_calibrated_yaml_rounds_only_for_people(tmp_path):
+    """calibrated.yaml (for people and `vphs run`) gives each fitted value to the digits its SE warrants plus
+    2, with the SE in its header; the round's augmented netlist, which the next round and a continued
+    calibration read, keeps every digit."""
+    import yaml
+
+    from blocks.calibrate.patch import rounded
+    from blocks.calibrate.run import calibrate
+
+    cal = calibrate(_with_outlier(tmp_path, line=9, column=2, add=0.0), tmp_path / "out", rounds=1,
+                    with_heldout=False)
+    layout, fit = cal.final.model.layout, cal.final.fit
+    text = cal.calibrated.read_text()
+    doc = yaml.safe_load(text)
+    for name in ("k_s", "A_ret", "R_meter"):
+        j = layout.index(name)
+        g = layout.globals[j]
+        assert doc["parameters"][name] == rounded(float(fit.x[j]), float(fit.se[j]), g.unit)
+        shown = float(str(doc["parameters"][name]).split()[0])
+        assert shown == float(f"{shown:.7g}")  # a few digits, not 16
+    assert "k_s = " in text and " bar +- " in text and "plus 2 (at least 4)" in text
+    # (the round's augmented netlist keeps every digit of the effect's value: test_calibrate_end_to_end's
+    # test_time_series_coulomb_friction_is_found)
