@@ -102,6 +102,11 @@ def largest(exp, data, stage, shown: int = SHOWN) -> dict:
             "beyond_bound": int(np.sum(np.abs(z) > c)), "rows": rows}
 
 
+def gross_residuals(cal) -> list[str]:
+    """The verdict's line on the final fit's residuals beyond the bound, by file and line (none: [])."""
+    return verdict_line(largest(cal.exp, cal.data, cal.final)) if cal.final is not None else []
+
+
 def verdict_line(info: dict) -> list[str]:
     """The verdict's line on residuals beyond the bound (none: [])."""
     k = info["beyond_bound"]

@@ -16,8 +16,9 @@ an early one for an alternative of its round that fits better beside the later o
 check (:mod:`blocks.calibrate.elimination`) takes out one that no longer earns its place beside the
 others (a later effect does its work). The verdict (:mod:`blocks.calibrate.verdict`): the effects found, the
 ambiguities, and "unexplained discrepancy remains" when the final fit is still significantly worse than the
-noise (chi^2, block means, residual whiteness or drift; p < 0.01 for the family of tests, Bonferroni). A
-round whose refits show that its fit stopped in a local minimum is fitted again from there and traced again
+noise (chi^2, block means, residual whiteness or drift; p < 0.01 for the family of tests, Bonferroni), and
+last the readings whose residual is beyond what their number makes plausible (:mod:`blocks.calibrate.outliers`).
+A round whose refits show that its fit stopped in a local minimum is fitted again from there and traced again
 (:func:`restart_if_short`).
 
 Everything is written under ``out``; `vphs calibrate` runs this inside blocks.calibrate.output.replacing, so
@@ -43,6 +44,7 @@ from blocks.calibrate.heldout import HeldOut, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
+from blocks.calibrate.outliers import gross_residuals
 from blocks.calibrate.patch import NetlistDoc, rounded, written
 from blocks.calibrate.screening import Score, screen
 from blocks.calibrate.selection import Decision, better_start, decide
@@ -180,6 +182,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         j = cal.final.model.layout.index(param)
         cal.accepted[k] = (key, title, where, param, float(cal.final.fit.x[j]), float(cal.final.fit.se[j]), unit)
     cal.verdict, cal.unexplained = verdict(cal)
+    cal.verdict += gross_residuals(cal)  # a line of its own after the verdict's (blocks.calibrate.outliers)
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal

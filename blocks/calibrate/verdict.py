@@ -2,8 +2,7 @@
 what would separate them, refits refused only for their range, parameters the data do not fix, a noise
 overstated, and whether a discrepancy remains unexplained (the lack-of-fit tests of the final fit,
 :meth:`blocks.calibrate.stats.LackOfFit.significant`), with what to check first when the misfit is gross or a
-run starts off the data; last, the readings whose residual is beyond what their number makes plausible
-(:mod:`blocks.calibrate.outliers`), by file and line."""
+run starts off the data."""
 
 from __future__ import annotations
 
@@ -12,7 +11,6 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
-from blocks.calibrate.outliers import largest, verdict_line
 from blocks.calibrate.run_start import initial_values, start_misfits
 
 if TYPE_CHECKING:
@@ -117,7 +115,6 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
             lines.append("no effect found: the declared model fits to the noise")
         else:
             lines.append("the augmented model fits to the noise")
-        lines += verdict_line(largest(cal.exp, cal.data, cal.final))  # after the others, which it leaves as they are
     return lines, unexplained
 
 
