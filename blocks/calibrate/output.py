@@ -33,7 +33,7 @@ from blocks.errors import VphsError
 PREVIOUS = ".previous"
 MOVING = ".previous.partial"
 DISCARD = ".discard"
-OWNED = re.compile(r"(report\.(json|md)|residuals\.png|latent_trace\.png|experiment_augmented\.yaml"
+OWNED = re.compile(r"(report\.(json|md)|residuals\.png|fit\.png|latent_trace\.png|experiment_augmented\.yaml"
                    r"|calibrated\.yaml|exchange|elimination|round\d+)")
 
 

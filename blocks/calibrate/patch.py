@@ -148,3 +148,30 @@ def _rebase(data: dict, old: Path, new: Path) -> dict:
 def written(value: float, unit: str):
     """An SI value as a written file gives it: in its display unit ('59.118... bar'), or bare without one."""
     return value if unit in ("", "1", "SI") else f"{value / display_factor(unit)!r} {unit}"
+
+
+MIN_DIGITS = 4  # significant digits of a fitted value for people, at the least
+
+
+def digits_for(value: float, se: float) -> int | None:
+    """Significant digits of ``value`` down to two places past the leading digit of its standard error (the
+    digits it warrants, plus 2: 0.0049869 for 0.004987 +- 0.000041), at least MIN_DIGITS; None (all digits) for
+    a value of 0 or an SE that is not a number."""
+    import math
+
+    if not (math.isfinite(value) and value != 0.0) or math.isnan(se):
+        return None
+    if not (math.isfinite(se) and se > 0.0):  # not fixed by the data: the least
+        return MIN_DIGITS
+    return max(MIN_DIGITS, min(17, math.floor(math.log10(abs(value))) - math.floor(math.log10(se)) + 3))
+
+
+def rounded(value: float, se: float, unit: str = ""):
+    """A fitted SI value as :func:`written` gives it, rounded in its display unit to :func:`digits_for`
+    digits (for people: calibrated.yaml; a netlist a calibration reads again keeps every digit)."""
+    factor = 1.0 if unit in ("", "1", "SI") else display_factor(unit)
+    digits = digits_for(value / factor, se / factor)
+    if digits is None:
+        return written(value, unit)
+    shown = f"{value / factor:.{digits}g}"
+    return float(shown) if unit in ("", "1", "SI") else f"{shown} {unit}"

@@ -1,6 +1,7 @@
-"""The calibration report: ``report.md`` (for people), ``report.json`` (the same numbers for programs) and
-``residuals.png`` (residuals against the variable the found effect depends on, before and after), all
-written atomically into the output folder beside the screening and augmented netlists.
+"""The calibration report: ``report.md`` (for people), ``report.json`` (the same numbers for programs),
+``residuals.png`` (residuals against the variable the found effect depends on, before and after) and
+``fit.png`` (the declared and final models against the data), all written atomically into the output folder
+beside the screening and augmented netlists.
 """
 
 from __future__ import annotations
@@ -11,6 +12,8 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
+from blocks.calibrate.fit import ran_rows
+from blocks.calibrate.outliers import largest
 from blocks.calibrate.selection import LINEARISED, several_minima
 from blocks.result import atomic_write_figure, atomic_write_text
 from blocks.units import UnitError, display_factor
@@ -177,6 +180,9 @@ def build(cal) -> dict:
                       "refitted": t.refitted, "removed": t.removed, "reasons": t.reasons,
                       "netlist": str(t.netlist) if t.netlist else None} for t in cal.removals],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
+        "largest_residuals": largest(exp, data, cal.final) if cal.final else None,
+        "se_scale": {tag: (float(np.sqrt(st.fit.inflation)) if st else None)
+                     for tag, st in (("before", cal.initial), ("after", cal.final))},
     }
 
 
@@ -218,8 +224,9 @@ def markdown(cal, info: dict) -> str:
                         if o["heldout_knots_propagated"] else "")
                      + f" ({o['heldout_scheme']}"
                      + (f"; folds whose refit did not converge: {', '.join(o['heldout_unconverged_folds'])}"
-                        if o["heldout_unconverged_folds"] else "") + "); unsettled points: "
-                     f"{o['unsettled_points']}" + _lengthened(o['lengthened_runs'])
+                        if o["heldout_unconverged_folds"] else "") + ")"
+                     + (f"; unsettled points: {o['unsettled_points']}" if data.kind == "steady" else "")
+                     + _lengthened(o['lengthened_runs'])
                      + ("" if o["fit_converged"] else f"; the fit stopped at its limit of {o['fit_evaluations']} "
                                                       f"evaluations before converging"))
     L += ["", "| channel | unit | noise | RMSE before | chi^2/nu before | RMSE after | chi^2/nu after | "
@@ -260,6 +267,8 @@ def markdown(cal, info: dict) -> str:
                     t = r.get(f"structure_{tag}")
                     cells += [f"{_g(t['chi2'], 3)} ({t['dof']})", _g(t["p_value"], 2)] if t else ["-", "-"]
                 L.append(f"| {r['channel']} | " + " | ".join(cells) + " |")
+    L += conventions(info, data.kind)
+    L += residual_table(info["largest_residuals"], data.kind == "time", len(data.groups) > 1, exp.spec.group)
     L += ["", "## Effects found", ""]
     if info["effects"]:
         L += ["| effect | where | parameter | value | SE | unit | in the final fit |", "|---|---|---|---|---|---|---|"]
@@ -278,7 +287,9 @@ def markdown(cal, info: dict) -> str:
                   f"at its final value" + (" and the fitted command: `vphs run` reproduces the fit (sensor "
                                            "corrections aside)." if one_run else
                                            ": `vphs run` simulates the calibrated model at the netlist's own "
-                                           "inputs (the experiment's differ point by point or run by run).")]
+                                           "inputs (the experiment's differ point by point or run by run).")
+              + " It sets every digit of each value; its header lists them for reading, each to the digits its "
+                "standard error warrants plus 2 (at least 4 significant), with the SE."]
     L += ["", "## Parameters: how they moved", "",
           "| parameter | kind | unit | start | declared fit | SE | final | SE |", "|---|---|---|---|---|---|---|---|"]
     for p in info["parameters"]:
@@ -379,10 +390,72 @@ def markdown(cal, info: dict) -> str:
             L.append(f"| {t['check']} | {t['effect']} ({t['round']}) | {_g(t['z'], 3)} | {_g(t['dbic'], 4)} | "
                      f"{t['refitted']} | {t['removed']} | {'; '.join(t['reasons'])} |")
         L.append("")
-    L += ["## Plots", "", "![residuals](residuals.png)", "",
+    L += ["## Plots", ""] + (["![model against data](fit.png)", "",
+                              "`fit.png`: the model against the data, declared (dashed) and final (solid): "
+                              + ("each compared output's reading and both models' simulated traces against t."
+                                 if data.kind == "time" else
+                                 f"each compared output against {exp.inputs[0].name if exp.inputs else 'the point'}"
+                                 f", the readings with error bars of one noise sigma, each model's fitted values at "
+                                 f"the points' fitted inputs."), ""] if cal.initial and cal.final else []) + [
+          "![residuals](residuals.png)", "",
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
           + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
     return "\n".join(L)
+
+
+def conventions(info: dict, kind: str) -> list[str]:
+    """How the report's numbers are made: standard errors, chi^2/nu per channel, the screening's absorbed
+    share, unsettled points (steady)."""
+    scale = info["se_scale"]
+    said = "; ".join(f"{'declared' if tag == 'before' else 'final'} fit: x {scale[tag]:.3g}"
+                     + (" (not scaled: chi^2/nu <= 1)" if scale[tag] <= 1.0 else "")
+                     for tag in ("before", "after") if scale.get(tag) is not None)
+    L = ["", "## How to read the numbers", "",
+         "- Standard errors (SE): from the fit's Jacobian of the normalised residuals, (J^T J)^-1, multiplied by "
+         "chi^2/nu whenever chi^2/nu is over 1 (significant or not), so every SE is multiplied by sqrt(chi^2/nu) "
+         "and a misfit never makes a parameter look better determined than the data say; below 1 they are not "
+         "shrunk. chi^2/nu here is over the rows whose runs ran. " + (f"Here: {said}. " if said else "")
+         + "Each refit in the screening tables, and each per-group drift estimate, is scaled by its own fit's "
+         "chi^2/nu.",
+         "- chi^2/nu per channel: the channel's chi^2 over its share of the degrees of freedom, chi^2_c / (n_c nu "
+         "/ n): nu = n - p (residual rows less fitted parameters, the latent inputs' included) shared out in "
+         "proportion to each channel's rows n_c; so the channels' shares add up to nu and each is ~1 for a model "
+         "that fits to the noise. The overall chi^2/nu is chi^2 / nu.",
+         "- The screening tables' 'absorbed' column: the share of the candidate's effect on the normalised "
+         "residuals (its squared sensitivity, |s|^2) that the free parameters already fitted (declared, latent "
+         "inputs, effects accepted earlier) can reproduce, 1 - |s_perp|^2 / |s|^2; its score T is what is left. "
+         "Over 99.9 % the candidate is 'not identifiable' and the parameters that absorb it are named in its note."]
+    if kind == "steady":
+        L.append("- Unsettled points: steady points read at the end of a settling run (no usable equilibrium, or "
+                 "steady.method: settle) whose compared signals still moved by more than steady.settle_tol times "
+                 "their noise over its last 20 %, the run lengthened up to steady.t_max; they are still used, and "
+                 "counted so that they are not taken for steady.")
+    return L
+
+
+def residual_table(info: dict | None, time: bool, groups: bool, group: str | None) -> list[str]:
+    """The markdown of the final fit's largest normalised residuals (blocks.calibrate.outliers)."""
+    if not info or not info["rows"]:
+        return []
+    n, c, k = info["residuals"], info["bound"], info["beyond_bound"]
+    L = ["", "## Largest normalised residuals (final model)", "",
+         f"The {len(info['rows'])} largest of the final fit's {n} residuals (outputs and imposed inputs' readings; "
+         f"residual / sigma = (fitted - measured) / noise). For {n} residuals of a right model, |residual / sigma| "
+         f"over {c:.3g} comes by chance in 1 % of experiments (Phi^-1(1 - 0.005/{n}): two-sided, Bonferroni over "
+         f"all {n}); "
+         + ("none is beyond it." if k == 0 else
+            f"{k} {'is' if k == 1 else 'are'} beyond it: check {'that reading' if k == 1 else 'those readings'} "
+            f"(file:line) before reading the fit, since a gross error pulls every estimate."), "",
+         "| channel | data file:line | " + ("t [s] | " if time else "") + (f"{'run' if time else group or 'group'} | "
+                                                                              if groups else "")
+         + "measured | fitted | unit | residual / sigma |",
+         "|---|---|" + ("---|" if time else "") + ("---|" if groups else "") + "---|---|---|---|"]
+    for r in info["rows"]:
+        L.append(f"| {r['channel']}{' (imposed)' if r['role'] == 'input' else ''} | {r['where']} | "
+                 + (f"{_g(r['t'], 6)} | " if time else "") + (f"{r['group']} | " if groups else "")
+                 + f"{_g(r['measured'], 6)} | {_g(r['fitted'], 6)} | {r['unit'] or '1'} | {r['z']:+.3g}"
+                 + (" **beyond**" if r["beyond_bound"] else "") + " |")
+    return L
 
 
 def plot_residuals(cal, path: Path) -> None:
@@ -409,13 +482,7 @@ def plot_residuals(cal, path: Path) -> None:
             ci = [c.name for c in stage.model.channels].index(ch.name)
             sel = stage.model.row_channel == ci
             r = stage.fit.r[sel]
-            if against == "t" or against is None:
-                x = cal.data.t if cal.data.kind == "time" else np.arange(cal.data.n)
-                xlabel = "t [s]" if cal.data.kind == "time" else "point"
-            else:
-                unit = next(c.unit for c in cal.exp.channels if c.name == against)
-                x = cal.data.measured[against] / _factor(unit)
-                xlabel = f"{against} [{unit}] (measured)"
+            x, xlabel = _axis(cal, against)
             if cal.data.kind == "steady" or len(cal.data.groups) > 1:  # by group (steady points, or runs)
                 marker, size = ("o", 4) if cal.data.kind == "steady" else (".", 1.5)
                 for label, idx in cal.data.groups.items():
@@ -442,6 +509,116 @@ def plot_residuals(cal, path: Path) -> None:
     fig.tight_layout()
     atomic_write_figure(fig, path)
     plt.close(fig)
+
+
+FIT_RUNS = 4  # runs of a time series drawn in fit.png (one column each), the first ones
+
+
+def _fitted(stage, name: str) -> np.ndarray:
+    """A channel's fitted values at every point or sample (SI): the reading plus the residual times the noise,
+    what the stage's model predicts of the reading (sensor corrections in); NaN where its run failed."""
+    model, res = stage.model, stage.fit
+    ci = [c.name for c in model.channels].index(name)
+    sel = np.nonzero(model.row_channel == ci)[0]
+    r = res.r[sel]
+    out = model.measured[sel] + r * model.row_sigma[sel]
+    return np.where(ran_rows(r), out, np.nan)
+
+
+def plot_fit(cal, path: Path) -> None:
+    """The model against the data, declared and final, from the fits' own values (no new simulation). Steady
+    points: each compared output against the first imposed input, the readings with error bars of one noise
+    sigma (both ways), each model's fitted values at the points' fitted (latent) inputs joined in order of
+    them, a colour per group. A time series: each compared output's reading and both models' traces against
+    t, a column per run (the first FIT_RUNS)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    exp, data = cal.exp, cal.data
+    stages = (("declared", cal.initial, "--"), ("final", cal.final, "-"))
+    outputs = list(exp.outputs)
+    if data.kind == "time":
+        runs = list(data.groups.items())[:FIT_RUNS]
+        fig, axes = plt.subplots(len(outputs), len(runs), figsize=(4.0 + 3.5 * len(runs), 1.2 + 2.4 * len(outputs)),
+                                 squeeze=False, sharex="col")
+        for row, ch in enumerate(outputs):
+            f = _factor(ch.unit)
+            fitted = {tag: _fitted(stage, ch.name) / f for tag, stage, _ in stages}
+            for col, (label, idx) in enumerate(runs):
+                ax = axes[row, col]
+                t = data.t[idx]
+                ax.plot(t, data.measured[ch.name][idx] / f, ".", ms=2, color="grey", label="measured")
+                for tag, stage, style in stages:
+                    ax.plot(t, fitted[tag][idx], style, lw=1.0, color="C1" if tag == "declared" else "C0",
+                            label=f"{tag} model (chi^2/nu = {stage.lof.reduced:.3g})")
+                if row == 0 and len(data.groups) > 1:
+                    ax.set_title(f"run {label}", fontsize="small")
+                if col == 0:
+                    ax.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
+                if row == len(outputs) - 1:
+                    ax.set_xlabel("t [s]")
+                ax.grid(True, alpha=0.3)
+        axes[0, 0].legend(fontsize="x-small")
+        shown = f" (the first {len(runs)} of {len(data.groups)} runs)" if len(data.groups) > len(runs) else ""
+        title = f"{Path(exp.file).name}: measured and simulated{shown}"
+    else:
+        source = exp.inputs[0] if exp.inputs else None
+        fig, axes = plt.subplots(len(outputs), 1, figsize=(9, 1.2 + 3.0 * len(outputs)), squeeze=False, sharex="col")
+        groups = list(data.groups.items())
+        for row, ch in enumerate(outputs):
+            ax = axes[row, 0]
+            f = _factor(ch.unit)
+            if source is not None:
+                fx = _factor(source.unit)
+                x, xerr = data.measured[source.name] / fx, data.sigma[source.name] / fx
+                at = {tag: _fitted(stage, source.name) / fx for tag, stage, _ in stages}
+            else:  # nothing imposed: the points in their order
+                x, xerr = np.arange(data.n, dtype=float), None
+                at = {tag: x for tag, _, _ in stages}
+            y = {tag: _fitted(stage, ch.name) / f for tag, stage, _ in stages}
+            for k, (label, idx) in enumerate(groups):
+                color = f"C{k % 10}" if len(groups) > 1 else "C0"
+                ax.errorbar(x[idx], data.measured[ch.name][idx] / f, yerr=data.sigma[ch.name] / f, xerr=xerr, fmt="o",
+                            ms=3, color=color, elinewidth=0.8, capsize=1.5,
+                            label=f"{exp.spec.group or 'group'} {label}" if len(groups) > 1 else "measured (+- sigma)")
+                for tag, stage, style in stages:
+                    order = idx[np.argsort(at[tag][idx], kind="stable")]
+                    ax.plot(at[tag][order], y[tag][order], style, marker="." if tag == "final" else None, ms=3,
+                            lw=1.0, color=color, alpha=1.0 if tag == "final" else 0.6)
+            ax.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
+            ax.grid(True, alpha=0.3)
+        axes[-1, 0].set_xlabel(f"{source.name} [{source.unit or '1'}] (measured; models at their fitted values)"
+                               if source is not None else "point")
+        from matplotlib.lines import Line2D
+
+        handles = axes[0, 0].get_legend_handles_labels()[0] + [
+            Line2D([], [], ls=style, color="k", marker="." if tag == "final" else None, ms=3, lw=1.0,
+                   label=f"{tag} model")
+            for tag, _, style in stages]
+        axes[0, 0].legend(handles=handles, fontsize="x-small", ncol=1 if len(groups) == 1 else 2)
+        title = (f"{Path(exp.file).name}: measured and fitted, declared model (dashed, chi^2/nu = "
+                 f"{cal.initial.lof.reduced:.3g}) and final (solid, {cal.final.lof.reduced:.3g})")
+    import textwrap
+
+    fig.suptitle(textwrap.fill(title, 110), fontsize="medium")
+    fig.tight_layout()
+    atomic_write_figure(fig, path)
+    plt.close(fig)
+
+
+def _axis(cal, against: str | None) -> tuple[np.ndarray, str]:
+    """The x values and label of a residual plot drawn against ``against`` (a Place's plot_against): t (or
+    the point number), a measured channel, or the difference "a - b" of two (a pressure drop), in the first
+    channel's display unit."""
+    channels = {c.name: c for c in cal.exp.channels}
+    parts = against.split(" - ") if against else []
+    if not parts or not all(p in channels for p in parts):
+        return ((cal.data.t, "t [s]") if cal.data.kind == "time" else (np.arange(cal.data.n), "point"))
+    unit = channels[parts[0]].unit
+    x = cal.data.measured[parts[0]] - (cal.data.measured[parts[1]] if len(parts) > 1 else 0.0)
+    return x / _factor(unit), f"{against} [{unit}] (measured)"
 
 
 def plot_latent_traces(cal, traces: list[dict], path: Path) -> None:
@@ -486,10 +663,14 @@ def write(cal, out: Path) -> dict[str, Path]:
     out = Path(out)
     info = build(cal)
     paths = {"json": out / "report.json", "markdown": out / "report.md", "plot": out / "residuals.png"}
+    if cal.initial is not None and cal.final is not None:
+        paths["fit"] = out / "fit.png"
     if info["latent_traces"]:
         paths["traces"] = out / "latent_trace.png"
     atomic_write_text(paths["json"], json.dumps(_finite(info), indent=1, default=_json_default) + "\n")
     plot_residuals(cal, paths["plot"])
+    if "fit" in paths:
+        plot_fit(cal, paths["fit"])
     if "traces" in paths:
         plot_latent_traces(cal, info["latent_traces"], paths["traces"])
     atomic_write_text(paths["markdown"], markdown(cal, info))

@@ -16,8 +16,9 @@ an early one for an alternative of its round that fits better beside the later o
 check (:mod:`blocks.calibrate.elimination`) takes out one that no longer earns its place beside the
 others (a later effect does its work). The verdict (:mod:`blocks.calibrate.verdict`): the effects found, the
 ambiguities, and "unexplained discrepancy remains" when the final fit is still significantly worse than the
-noise (chi^2, block means, residual whiteness or drift; p < 0.01 for the family of tests, Bonferroni). A
-round whose refits show that its fit stopped in a local minimum is fitted again from there and traced again
+noise (chi^2, block means, residual whiteness or drift; p < 0.01 for the family of tests, Bonferroni), and
+last the readings whose residual is beyond what their number makes plausible (:mod:`blocks.calibrate.outliers`).
+A round whose refits show that its fit stopped in a local minimum is fitted again from there and traced again
 (:func:`restart_if_short`).
 
 Everything is written under ``out``; `vphs calibrate` runs this inside blocks.calibrate.output.replacing, so
@@ -43,7 +44,8 @@ from blocks.calibrate.heldout import HeldOut, fallbacks, folds_of, heldout
 from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
-from blocks.calibrate.patch import NetlistDoc, written
+from blocks.calibrate.outliers import gross_residuals
+from blocks.calibrate.patch import NetlistDoc, rounded, written
 from blocks.calibrate.screening import Score, screen
 from blocks.calibrate.selection import Decision, better_start, decide
 from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
@@ -192,6 +194,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         cal.accepted[k] = (key, title, where, param, float(cal.final.fit.x[j]), float(cal.final.fit.se[j]), unit)
     cal.verdict, cal.unexplained = verdict(cal)
     cal.verdict[:0] = few
+    cal.verdict += gross_residuals(cal)  # a line of its own after the verdict's (blocks.calibrate.outliers)
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal
@@ -243,23 +246,27 @@ def degrees_of_freedom(exp: Experiment, data: Dataset, model: Model, folds: list
 
 def write_calibrated(cal: Calibration) -> Path | None:
     """``calibrated.yaml``: the final model's netlist with every fitted parameter (the declared free ones,
-    the effects found) at its final value and the experiment's overrides in, so that ``vphs run`` simulates
-    the calibrated model. A time series of one run gets its fitted command too (the latent levels, or the
-    profile through a recorded trace's knots): run, it reproduces the final fit. Steady points and runs of
-    several keep the netlist's own inputs and per-group values (the experiment's differ point by point, run
-    by run), and so do parameters fitted per group (named in the header). Sensor corrections act on the data,
-    not the netlist. A fitted parameter that is neither a netlist parameter nor a component's (one inside a
-    subsystem) is listed in the header as not set."""
+    the effects found) at its final value, every digit of it, and the experiment's overrides in, so that
+    ``vphs run`` simulates the calibrated model. Its header lists each fitted value for people, to the
+    digits its standard error warrants plus 2 (:func:`blocks.calibrate.patch.rounded`), with the SE. A time
+    series of one run gets its fitted command too (the latent levels, or the profile through a recorded
+    trace's knots): run, it reproduces the final fit. Steady points and runs of several keep the netlist's
+    own inputs and per-group values (the experiment's differ point by point, run by run), and so do
+    parameters fitted per group (named in the header). Sensor corrections act on the data, not the netlist.
+    A fitted parameter that is neither a netlist parameter nor a component's (one inside a subsystem) is
+    listed in the header as not set."""
     if cal.final is None:
         return None
     doc = NetlistDoc.read(cal.final.netlist)
-    x = cal.final.fit.x
+    x, se, layout = cal.final.fit.x, cal.final.fit.se, cal.final.model.layout
     one_run = cal.data.kind == "time" and len(cal.data.groups) <= 1  # its fitted inputs are the netlist's too
     kinds = ("declared", "candidate") + (("latent",) if one_run else ())
+    fitted = [(k, g) for k, g in enumerate(layout.globals) if g.kind in kinds and g.run is None]
     values = [(name, value) for name, value in cal.exp.overrides.items()] + [
-        (g.name, written(float(x[k]), g.unit))
-        for k, g in enumerate(cal.final.model.layout.globals) if g.kind in kinds and g.run is None]
-    per_group = [g.name for g in cal.final.model.layout.globals if g.kind == "declared" and g.run is not None]
+        (g.name, written(float(x[k]), g.unit)) for k, g in fitted]
+    shown = {g.name: f"{rounded(float(x[k]), float(se[k]), g.unit)}{_se_text(float(se[k]), g.unit)}"
+             for k, g in fitted}
+    per_group = [g.name for g in layout.globals if g.kind == "declared" and g.run is not None]
     if one_run:  # a recorded command: the profile through the fitted knots instead of the recording
         for (profile, _run), (times, knots) in cal.final.model.trace_knots(x).items():
             values += [(f"{profile}.times", [float(t) for t in times]),
@@ -273,7 +280,7 @@ def write_calibrated(cal: Calibration) -> Path | None:
             doc.set_param(component, param, value)
         else:
             missed.append(name)
-    fitted = "".join(f"\n  {n} = {v if not isinstance(v, list) else f'({len(v)} knots)'}"
+    listed = "".join(f"\n  {n} = {shown.get(n, v) if not isinstance(v, list) else f'({len(v)} knots)'}"
                      for n, v in values[len(cal.exp.overrides):]) or " none"
     inputs = ("The command is the fitted one (its latent levels or knots): `vphs run` reproduces the fit, sensor "
               "corrections aside." if one_run else
@@ -281,12 +288,23 @@ def write_calibrated(cal: Calibration) -> Path | None:
               "netlist's own: `vphs run` simulates the calibrated model at those.")
     target = cal.out / "calibrated.yaml"
     doc.write(target, header=f"Calibrated by vphs calibrate for {Path(cal.exp.file).name}: {cal.final.netlist.name} "
-                             f"with the experiment's overrides and every fitted parameter at its final value:{fitted}"
+                             f"with the experiment's overrides and every fitted parameter at its final value "
+                             f"(below to the digits its standard error warrants plus 2, with the SE; in the file "
+                             f"every digit):{listed}"
                              f"\n{inputs}" + (f"\nNot set here (not a netlist or component parameter): "
                                                f"{', '.join(missed)}." if missed else "")
                              + (f"\nFitted per group, so not set here (the report gives each): "
                                 f"{', '.join(per_group)}." if per_group else ""))
     return target
+
+
+def _se_text(se: float, unit: str) -> str:
+    """' +- 4.1e-05' after a value in calibrated.yaml's header (its display unit is the value's)."""
+    from blocks.units import display_factor
+
+    if not np.isfinite(se):
+        return " (not fixed by the data)" if np.isinf(se) else ""
+    return f" +- {se / (1.0 if unit in ('', '1', 'SI') else display_factor(unit)):.2g}"
 
 
 def refuse_to_overwrite_inputs(exp: Experiment, out: Path) -> None:

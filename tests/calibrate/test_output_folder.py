@@ -146,8 +146,8 @@ def test_a_folder_the_run_made_is_removed_when_it_fails(tmp_path):
 
 
 def test_only_what_a_calibration_writes_is_owned():
-    for name in ("report.md", "report.json", "residuals.png", "latent_trace.png", "experiment_augmented.yaml",
-                 "exchange", "elimination", "round1", "round12"):
+    for name in ("report.md", "report.json", "residuals.png", "fit.png", "latent_trace.png",
+                 "experiment_augmented.yaml", "exchange", "elimination", "round1", "round12"):
         assert output.OWNED.fullmatch(name), name
     for name in ("notes.txt", "report.md.bak", "round", "data.csv", PREVIOUS):
         assert not output.OWNED.fullmatch(name), name

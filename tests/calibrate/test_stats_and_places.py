@@ -131,6 +131,18 @@ def test_places_in_the_relief_rig():
     assert not any(k.endswith("@tank.port") or "@cal_" in k for k in keys)
 
 
+def test_a_leakage_is_plotted_against_the_pressure_of_its_own_nets():
+    """The residual plot of a leakage is drawn against the pressure drop across it where a channel measures
+    both nets, the pressure of its own net where one is measured (a leak to tank), not against the first
+    pressure channel (a leak at R plotted against p1: the review)."""
+    ctx, exp = _ctx("relief_rig_steady.yaml")
+    against = {p.key: p.plot_against for p in registered()["leakage"].places(ctx)}
+    assert against == {"leakage@P1-T": "p1", "leakage@P1-V": "p1 - p3", "leakage@R-V": "p2 - p3",
+                       "leakage@R-T": "p2"}
+    ctx, exp = _ctx("drive_line_series.yaml")
+    assert {p.key: p.plot_against for p in registered()["leakage"].places(ctx)}["leakage@A-B"] == "pA - pB"
+
+
 def test_places_in_the_drive_line_and_a_series_patch(tmp_path):
     ctx, exp = _ctx("drive_line_series.yaml")
     places = {p.key: p for cand in registered().values() for p in cand.places(ctx)}

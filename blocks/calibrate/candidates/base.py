@@ -37,7 +37,7 @@ class Place:
     kind: str = "netlist"  # "netlist" or "channel"
     target: dict = field(default_factory=dict)
     meaning: str = ""  # how to read the value, e.g. "dp at 100 l/min = k*(100 l/min)^2"
-    plot_against: str = "t"  # a measured channel name, or "t"
+    plot_against: str = "t"  # a measured channel name, "a - b" (the difference of two such), or "t"
     one_sided: bool = True  # the parameter's sign is fixed (zero is a bound)
 
 
@@ -84,6 +84,26 @@ class Context:
             if ch.si_unit and ch.si_unit not in ("1", "SI") and parse_unit(ch.si_unit).same_dimension(parse_unit(dims)):
                 return ch.name
         return "t" if self.data.kind == "time" else (self.exp.inputs[0].name if self.exp.inputs else "t")
+
+    def pressure_channel(self, net: str) -> str | None:
+        """The measured channel whose logged signal is the pressure of top-level net ``net`` (None: none)."""
+        from blocks.units import parse_unit
+
+        of = {o.name: o.of for o in self.flat.outputs}
+        for ch in self.exp.channels:
+            if ch.signal is not None and of.get(ch.signal) == net and ch.si_unit not in ("", "1", "SI") \
+                    and parse_unit(ch.si_unit).same_dimension(parse_unit("Pa")):
+                return ch.name
+        return None
+
+    def across(self, a: str, b: str, dims: str) -> str:
+        """What a residual plot of an effect between nets ``a`` and ``b`` is drawn against: the pressure drop
+        ``"pa - pb"`` where a channel measures each net, the pressure of the one measured, else the first
+        channel of ``dims`` (:meth:`first_input_of_unit`). Only the plot's x-axis (blocks.calibrate.report)."""
+        pa, pb = self.pressure_channel(a), self.pressure_channel(b)
+        if pa and pb:
+            return f"{pa} - {pb}"
+        return pa or pb or self.first_input_of_unit(dims)
 
 
 class Candidate:

@@ -15,7 +15,7 @@ class Leakage(Candidate):
             out.append(Place(self.name, f"{self.name}@{a}-{b}", f"between nets {a} and {b} (across {joined_by})",
                              f"cal_G_{safe(a)}_{safe(b)}", "m^3/(s*Pa)", 0.0, 0.0, 1e-3,
                              1e-4 * ctx.q_ref / 1e5, (0.0, ctx.q_ref / 100e5), target={"a": a, "b": b},
-                             meaning="q = G*(p_a - p_b)", plot_against=ctx.first_input_of_unit("Pa")))
+                             meaning="q = G*(p_a - p_b)", plot_against=ctx.across(a, b, "Pa")))
         return out
 
     def patch(self, doc, place):
