@@ -314,7 +314,10 @@ def cmd_run(args) -> int:
 
 
 def _check_plot_signals(args, logged: list[str]) -> None:
-    """--x and --y choose what --plot draws: logged signals, each once, and only with --plot."""
+    """--x and --y choose what --plot draws: logged signals, each once, and only with --plot (--x t: time,
+    the default)."""
+    if args.x == "t" and "t" not in logged:
+        args.x = None if args.plot else args.x
     chosen = ([args.x] if args.x else []) + args.y
     if chosen and not args.plot:
         raise ArgumentError(f"vphs: {'--x' if args.x else '--y'} chooses what --plot draws: give --plot FILE too")
@@ -519,11 +522,12 @@ def cmd_calibrate(args) -> int:
 
 
 def cmd_linearise(args) -> int:
+    import math
 
     from blocks import linear_report as report
     from blocks.circuit import Circuit
-    from blocks.linearise import (coupled, frequency_response, linearise, logged_values, modes, operating_point,
-                                  steady_gain)
+    from blocks.linearise import (at_rest, coupled, frequency_response, linearise, logged_values, modes,
+                                  operating_point, steady_gain)
     from blocks.units import parse_unit
 
     files = {"-o": args.modes, "--state-space": args.state_space, "--response": args.response, "--plot": args.plot}
@@ -531,8 +535,8 @@ def cmd_linearise(args) -> int:
     if (args.response or args.plot) and not args.input:
         raise ArgumentError("vphs: --response and --plot show the response to an input: name one with --input PARAM")
     f_min, f_max = _frequency(args.f_min, "--f-min"), _frequency(args.f_max, "--f-max")
-    if not 0 < f_min < f_max:
-        raise ArgumentError(f"vphs: --f-min {args.f_min} and --f-max {args.f_max}: need 0 < f-min < f-max")
+    if not 0 < f_min < f_max < math.inf:
+        raise ArgumentError(f"vphs: --f-min {args.f_min} and --f-max {args.f_max}: need 0 < f-min < f-max, both finite")
     if args.points < 2:
         raise ArgumentError(f"vphs: --points {args.points}: need at least 2")
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
@@ -554,6 +558,11 @@ def cmd_linearise(args) -> int:
             at = quantity(float(args.at) if _is_number(args.at) else args.at, "s")
         except UnitError as exc:
             raise ArgumentError(f"vphs: --at '{args.at}': {exc}") from None
+        if not math.isfinite(at):
+            raise ArgumentError(f"vphs: --at '{args.at}': not a finite time")
+        problem = circuit.settings.with_(t_end=at).problem() if at > circuit.settings.t_start else None
+        if problem:  # the run to the operating point is a run like `vphs run --t-end`'s
+            raise ArgumentError(f"vphs: --at '{args.at}': {problem[1]}")
     circuit.compile(quiet=args.quiet)
     point = operating_point(circuit, overrides, circuit.settings, at, args.equilibrium)
     model = linearise(circuit, point, inputs, args.output or None)
@@ -568,8 +577,11 @@ def cmd_linearise(args) -> int:
     print(f"# there: {', '.join(shown)}")
     print(report.modes_table(found))
     reached = coupled(model)
-    if inputs:
-        for line in report.steady_gain_lines(model, steady_gain(model), reached, out_units, in_units):
+    if inputs and not at_rest(model, point):
+        print("steady-state gains: not given (the point is not at rest, so there is no steady state about it; "
+              "--equilibrium linearises about one)")
+    elif inputs:
+        for line in report.steady_gain_lines(model, *steady_gain(model), out_units, in_units):
             print(line)
     for name in [n for k, n in enumerate(inputs) if not model.B[:, k].any() and not model.D[:, k].any()]:
         print(f"vphs: warning: --input {name} moves nothing at this operating point (it sets an initial value, "
@@ -654,16 +666,18 @@ def _linear_inputs(written: list[str], circuit) -> tuple[list[str], list[str]]:
 
 
 def _linear_notes(model, point) -> list[str]:
-    """What to know about the point: the states an equilibrium leaves integrating (steady motion), and
-    the fastest-changing state when the point is not at rest."""
+    """What to know about the point: the states that only integrate (a steady motion), and the
+    fastest-changing state when the point is not at rest."""
     import numpy as np
 
-    notes = []
-    if point.moving:
-        notes.append(f"in steady motion: {', '.join(point.moving)} keep integrating (a position, an angle)")
-    scaled = np.abs(point.rates) / model.state_nominal
-    resting = [j for j, name in enumerate(model.state_names) if name not in point.moving]
-    if resting and scaled[resting].max() > 1e-6:
+    from blocks.linearise import at_rest, integrating
+
+    notes, moving = [], integrating(model, point)
+    if moving:
+        notes.append(f"in steady motion: {', '.join(moving)} keep integrating and act on nothing else")
+    if not at_rest(model, point):
+        resting = [j for j, name in enumerate(model.state_names) if name not in moving]
+        scaled = np.abs(point.rates) / model.state_nominal
         j = resting[int(np.argmax(scaled[resting]))]
         rate, unit = (point.rates[j] / 1e5, "bar") if model.state_units[j] == "Pa" else (point.rates[j], model.state_units[j])
         notes.append(f"not at rest: {model.state_names[j]} changes at {rate:.3g} {unit}/s (the modes describe "

@@ -46,12 +46,17 @@ def check() -> None:
         raise KeyboardInterrupt
 
 
+def raises_interrupt(handler) -> bool:
+    """Whether ``handler`` is one that raises KeyboardInterrupt: Python's own, or :func:`handling`'s."""
+    return handler in (signal.default_int_handler, _note_and_raise)
+
+
 def caused_by_interrupt(exc: BaseException) -> bool:
-    """Whether ``exc`` is, or was raised while handling, a KeyboardInterrupt (or one was noted)."""
+    """Whether ``exc`` is, or was raised while handling, a KeyboardInterrupt."""
     seen = set()
     while exc is not None and id(exc) not in seen:
         if isinstance(exc, KeyboardInterrupt):
             return True
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
-    return bool(_noted)
+    return False

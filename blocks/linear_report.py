@@ -14,7 +14,7 @@ import math
 
 import numpy as np
 
-from blocks.linearise import LinearModel, Mode
+from blocks.linearise import GAIN_DEFECTIVE, GAIN_INTEGRATES, GAIN_UNCOUPLED, LinearModel, Mode
 from blocks.units import parse_unit
 
 SHOWN_SHARE = 0.05  # a state taking part in a mode is named when its share is at least this
@@ -105,15 +105,22 @@ def response_csv(frequencies: np.ndarray, shown: np.ndarray, model: LinearModel,
     return buffer.getvalue()
 
 
-def steady_gain_lines(model: LinearModel, gain: np.ndarray, reached: np.ndarray, out_units, in_units) -> list[str]:
-    """One line per output and input: the gain at zero frequency, or why there is none."""
+def steady_gain_lines(model: LinearModel, gain: np.ndarray, why: np.ndarray, out_units, in_units) -> list[str]:
+    """One line per output and input: the gain at zero frequency, or why there is none
+    (:func:`blocks.linearise.steady_gain`)."""
     shown = gain * np.array([parse_unit(u).factor for u in in_units])[None, :] \
         / np.array([parse_unit(u).factor for u in out_units])[:, None]
-    return [f"steady-state gain {out}/{inp}: " + (
-        "none (it integrates the input)" if not np.isfinite(shown[a, b]) else
-        f"{shown[a, b]:.6g} {ratio_unit(out_units[a], in_units[b])}" + ("" if reached[a, b] else
-                                                                        " (the input does not reach it)"))
-        for a, out in enumerate(model.output_names) for b, inp in enumerate(model.input_names)]
+    reasons = {GAIN_INTEGRATES: "none (it integrates the input)",
+               GAIN_DEFECTIVE: "not computed (the states between them have no full set of eigenvectors: a "
+                               "free body's speed and position)"}
+    lines = []
+    for a, out in enumerate(model.output_names):
+        for b, inp in enumerate(model.input_names):
+            unit = ratio_unit(out_units[a], in_units[b])
+            text = reasons.get(why[a, b]) or (f"{shown[a, b]:.6g} {unit}" + (
+                " (the input does not reach it)" if why[a, b] == GAIN_UNCOUPLED else ""))
+            lines.append(f"steady-state gain {out}/{inp}: {text}")
+    return lines
 
 
 def bode_plot(path, frequencies, shown, model: LinearModel, out_units, in_units, found: list[Mode],

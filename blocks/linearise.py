@@ -42,7 +42,7 @@ import scipy.linalg
 from blocks.errors import SimulationError, VphsError
 
 STATE_STEP = 1e-6  # relative central-difference step (the optimum for central differences is ~eps^(1/3))
-INTEGRATOR = 1e-9  # an eigenvalue below this fraction of the largest is taken as 0
+INTEGRATOR = 1e-12  # an eigenvalue below this fraction of the largest is taken as 0 (eig's rounding: ~1e-14)
 
 
 @dataclass
@@ -54,7 +54,6 @@ class OperatingPoint:
     overrides: dict[str, float]
     how: str  # "the state at t = 2 s of the run", "the equilibrium with the inputs at t = 2 s"
     rates: np.ndarray = field(default_factory=lambda: np.zeros(0))  # f(t, x): zero at an equilibrium
-    moving: list[str] = field(default_factory=list)  # states left integrating (steady motion)
 
 
 @dataclass
@@ -121,17 +120,14 @@ def operating_point(circuit, overrides: dict[str, float], settings, at: float | 
         result = circuit.simulate(overrides, settings.with_(t_end=t))
         x = np.array(result.states[-1], dtype=float)
         how = f"the state at t = {t:g} s of the run"
-    moving: list[str] = []
-    if equilibrium:
+    if equilibrium:  # status 4: at rest but for states that act on nothing and integrate (see integrating())
         found = circuit.equilibrium(overrides, guess=x, t=t)
-        if found.status == 4:
-            moving = _integrating(circuit, t, np.asarray(found.states, dtype=float), overrides, found.sinks)
-        elif found.status != 0:
+        if found.status not in (0, 4):
             raise SimulationError(f"{circuit.flat.file}: no equilibrium found from {how}: "
                                   f"{EQUILIBRIUM_FAILURE.get(found.status, 'status ' + str(found.status))}")
         x = np.array(found.states, dtype=float)
         how = f"the equilibrium with the inputs held at their values at t = {t:g} s, found from {how}"
-    return OperatingPoint(t, x, dict(overrides), how, _rates(circuit, t, x, overrides), moving)
+    return OperatingPoint(t, x, dict(overrides), how, _rates(circuit, t, x, overrides))
 
 
 EQUILIBRIUM_FAILURE = {
@@ -212,9 +208,13 @@ def _scaled(model: LinearModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _eigen(model: LinearModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """:func:`_eig` of the scaled A."""
+    return _eig(_scaled(model)[0])
+
+
+def _eig(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """Eigenvalues (those under INTEGRATOR times the largest set to 0), left eigenvectors as rows
-    normalised to l_k r_k = 1, right eigenvectors as columns, of the scaled A."""
-    A, _, _ = _scaled(model)
+    normalised to l_k r_k = 1, right eigenvectors as columns."""
     if A.size == 0:
         return np.zeros(0, dtype=complex), np.zeros((0, 0), dtype=complex), np.zeros((0, 0), dtype=complex)
     values, vl, vr = scipy.linalg.eig(A, left=True, right=True)
@@ -235,51 +235,74 @@ def frequency_response(model: LinearModel, frequencies_hz: np.ndarray) -> np.nda
     return response
 
 
-def steady_gain(model: LinearModel) -> np.ndarray:
-    """G(0) = D - sum over the modes k with lambda_k != 0 of (C r_k)(l_k B)/lambda_k, per output and input
-    (SI; a sum that cancels to within 1e-9 of its terms is 0); NaN where a mode at 0 is both driven by the input and seen in the output (the output integrates
-    the input: it has no steady value), or everywhere when A has no full set of eigenvectors.
+GAIN_INTEGRATES, GAIN_UNCOUPLED, GAIN_DEFECTIVE = "integrates", "uncoupled", "defective"
+
+
+def steady_gain(model: LinearModel) -> tuple[np.ndarray, np.ndarray]:
+    """The gain at zero frequency per output and input (SI), and why there is none where there is not.
+
+    For each pair, on the states the input reaches and the output sees (:func:`_reaching`; the rest cannot
+    take part): G(0) = D - sum over the modes k with lambda_k != 0 of (C r_k)(l_k B)/lambda_k (a sum that
+    cancels to within 1e-9 of its terms is 0). Returns (gain, why), why per pair "" (a gain),
+    GAIN_INTEGRATES (a mode at 0 that the input drives and the output sees: the output integrates the
+    input, gain NaN), GAIN_UNCOUPLED (the input does not reach the output: gain 0) or GAIN_DEFECTIVE (those
+    states have no full set of eigenvectors, a Jordan block such as a free body's speed and position, and
+    no modal sum: gain NaN).
 
     A mode at 0 that the input does not drive, or the output does not see, leaves the gain finite: the
     piston position of a cylinder whose flow is the input integrates, but the pressure behind a relief
     valve does not. (A - solve would call every such circuit singular.)"""
-    values, terms, significant = _modal_terms(model)
-    if terms is None:
-        return np.full(model.D.shape, np.nan)
-    gain = model.D.astype(complex)
-    size = np.abs(model.D)  # what the sum's rounding is relative to
-    integrating = np.zeros(model.D.shape, dtype=bool)
-    for k, value in enumerate(values):
-        if value == 0:
-            integrating |= significant[k]
-        else:
-            gain -= terms[k] / value
-            size = size + np.abs(terms[k] / value)
-    gain = np.where(coupled(model) & (np.abs(gain) > 1e-9 * size), gain.real, 0.0)
-    return np.where(integrating, np.nan, gain)
+    A, B, C = _scaled(model)
+    n_out, n_in = model.D.shape
+    gain = np.array(model.D, dtype=float)
+    why = np.full((n_out, n_in), "", dtype=object)
+    for a in range(n_out):
+        for b in range(n_in):
+            states = _reaching(A, B[:, b], C[a])
+            if not states.any():
+                why[a, b] = "" if model.D[a, b] != 0.0 else GAIN_UNCOUPLED
+                continue
+            values, left, right = _eig(A[np.ix_(states, states)])
+            if np.linalg.cond(right) > 1e12:
+                gain[a, b], why[a, b] = np.nan, GAIN_DEFECTIVE
+                continue
+            seen, driven = C[a, states] @ right, left @ B[states, b]
+            terms = seen * driven
+            bound = 1e-8 * (np.linalg.norm(C[a, states]) * np.linalg.norm(right, axis=0)
+                            * np.linalg.norm(left, axis=1) * np.linalg.norm(B[states, b]))
+            at_zero = values == 0
+            if np.any(at_zero & (np.abs(terms) > bound)):
+                gain[a, b], why[a, b] = np.nan, GAIN_INTEGRATES
+                continue
+            parts = terms[~at_zero] / values[~at_zero]
+            total = model.D[a, b] - parts.sum()
+            size = abs(model.D[a, b]) + np.abs(parts).sum()  # what the sum's rounding is relative to
+            gain[a, b] = total.real if abs(total) > 1e-9 * size else 0.0
+    return gain, why
 
 
 def coupled(model: LinearModel) -> np.ndarray:
-    """Per output and input: does the input reach the output at all (D, or a mode it drives and the
-    output sees)? An exact False is an exact zero transfer function."""
-    _, terms, significant = _modal_terms(model)
-    reached = model.D != 0.0
-    return reached | (significant.any(axis=0) if terms is not None else True)
+    """Per output and input: does the input reach the output at all (D, or states the input moves that the
+    output reads, through A's couplings)? False is an exact zero transfer function."""
+    A, B, C = _scaled(model)
+    n_out, n_in = model.D.shape
+    return np.array([[model.D[a, b] != 0.0 or _reaching(A, B[:, b], C[a]).any() for b in range(n_in)]
+                     for a in range(n_out)], dtype=bool).reshape(n_out, n_in)
 
 
-def _modal_terms(model: LinearModel):
-    """Each mode's residue (C r_k)(l_k B), shape (modes, outputs, inputs), and whether it is more than
-    rounding: over 1e-8 of |C_a| |r_k| |l_k| |B_b|. (None, None) when A is defective (a Jordan block: a
-    free mass's speed and position) and no modal sum exists."""
-    values, left, right = _eigen(model)
-    _, B, C = _scaled(model)
-    if values.size and np.linalg.cond(right) > 1e12:
-        return values, None, None
-    seen, driven = C @ right, left @ B  # (outputs, modes), (modes, inputs)
-    terms = np.einsum("ak,kb->kab", seen, driven)
-    bound = 1e-8 * np.einsum("a,k,k,b->kab", np.linalg.norm(C, axis=1), np.linalg.norm(right, axis=0),
-                             np.linalg.norm(left, axis=1), np.linalg.norm(B, axis=0))
-    return values, terms, np.abs(terms) > bound
+def _reaching(A: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """The states on a path from the input (column b of B) to the output (row c of C) through A's nonzero
+    couplings (x_j acts on x_i where A[i, j] != 0): those the input moves and that move the output."""
+    def closure(start: np.ndarray, links: np.ndarray) -> np.ndarray:
+        found = start.copy()
+        while True:
+            grown = found | (links @ found > 0)
+            if (grown == found).all():
+                return found
+            found = grown
+
+    links = A != 0.0
+    return closure(b != 0.0, links.astype(int)) & closure(c != 0.0, links.T.astype(int))
 
 
 def input_unit(circuit, name: str) -> str:
@@ -312,20 +335,23 @@ def _input_span(circuit, name: str, value: float) -> tuple[float, float]:
     return low, high
 
 
-def _integrating(circuit, t, x, overrides, sinks) -> list[str]:
-    """The states among ``sinks`` (those acting on no other state) that integrate: their rate does not
-    depend on themselves at all (a position, an angle, an integrator) and is not zero."""
-    names, nominal = _state_names(circuit), _state_nominal(circuit)
-    rates = _rates(circuit, t, x, overrides)
-    moving = []
-    for j in np.flatnonzero(sinks):
-        h = STATE_STEP * max(abs(x[j]), nominal[j])
-        up, down = x.copy(), x.copy()
-        up[j] += h
-        down[j] -= h
-        if rates[j] != 0.0 and _rates(circuit, t, up, overrides)[j] == _rates(circuit, t, down, overrides)[j]:
-            moving.append(names[j])
-    return moving
+REST = 1e-6  # 1/s: a state changing slower than this fraction of its nominal size per second is at rest
+
+
+def integrating(model: LinearModel, point: OperatingPoint) -> list[str]:
+    """The states that keep integrating at the point and act on nothing: those whose column of A is zero (no
+    state, itself included, depends on them) and whose rate is not (an integrator of a constant command, a
+    position sensor's angle; an equilibrium leaves them moving): a steady motion, not a transient."""
+    acting = np.any(model.A != 0.0, axis=0)
+    return [name for j, name in enumerate(model.state_names) if not acting[j] and point.rates[j] != 0.0]
+
+
+def at_rest(model: LinearModel, point: OperatingPoint) -> bool:
+    """Whether every state is at rest at the point (|dx_j/dt| <= REST * s_j), those that only integrate
+    (:func:`integrating`) apart."""
+    moving = integrating(model, point)
+    resting = [j for j, name in enumerate(model.state_names) if name not in moving]
+    return not resting or float(np.max(np.abs(point.rates[resting]) / model.state_nominal[resting])) <= REST
 
 
 def logged_values(circuit, point: OperatingPoint) -> dict[str, float]:

@@ -38,6 +38,7 @@ import signal
 import threading
 from typing import Iterator
 
+from blocks import interrupt
 from blocks.errors import VphsError
 from blocks.optimise.evaluate import EvalSpec, combine_cases, evaluate_case, evaluate_design
 
@@ -68,7 +69,7 @@ def interrupt_after_evaluation():
     alone."""
     deferred = {number: handler for number, handler in ((signal.SIGINT, signal.getsignal(signal.SIGINT)),
                                                         (signal.SIGTERM, signal.getsignal(signal.SIGTERM)))
-                if handler in (signal.default_int_handler, terminate_as_interrupt)}
+                if interrupt.raises_interrupt(handler) or handler is terminate_as_interrupt}
     if threading.current_thread() is not threading.main_thread() or not deferred:
         yield
         return

@@ -18,7 +18,8 @@ import numpy as np
 import pytest
 
 from blocks.circuit import Circuit
-from blocks.linearise import coupled, frequency_response, linearise, modes, operating_point, steady_gain
+from blocks.linearise import (GAIN_DEFECTIVE, GAIN_INTEGRATES, GAIN_UNCOUPLED, at_rest, coupled, frequency_response, integrating,
+                              linearise, modes, operating_point, steady_gain)
 
 NETLISTS = Path(__file__).parent / "netlists"
 BETA, V, G = 8e8, 2e-3, 2e-11
@@ -92,15 +93,16 @@ def test_input_columns_are_the_parameter_sensitivities():
 
 def test_steady_gains():
     model = model_at_start()
-    gain = steady_gain(model)
+    gain, why = steady_gain(model)
     q, m = 0, 1
     p, pA, v, x, qi = range(5)
     assert gain[p, q] == pytest.approx(1.0 / G, rel=1e-7)
     # more load: the piston sinks by g*dm/k_h, compressing chamber A
     assert gain[x, m] == pytest.approx(-GRAVITY / K_H, rel=1e-6)
     assert gain[pA, m] == pytest.approx(BETA * A_A / V_A * GRAVITY / K_H, rel=1e-6)
-    assert gain[v, m] == 0.0
-    assert math.isnan(gain[qi, q])  # it integrates the command
+    assert gain[v, m] == 0.0 and why[v, m] == ""
+    assert math.isnan(gain[qi, q]) and why[qi, q] == GAIN_INTEGRATES  # it integrates the command
+    assert gain[p, m] == 0.0 and why[p, m] == GAIN_UNCOUPLED
     reached = coupled(model)
     assert not reached[p, m] and not reached[pA, q] and not reached[x, q]
     assert reached[p, q] and reached[pA, m] and reached[qi, q]
@@ -128,7 +130,9 @@ def test_equilibrium_operating_point_with_a_state_that_keeps_integrating():
     q = 3.0 / 60000  # 3 l/min instead of the netlist's 6
     point = operating_point(c, {"qcmd.value": q}, c.settings, at=0.0, equilibrium=True)
     assert point.x[c.structure.net_state["P"].index] == pytest.approx(q / G, rel=1e-9)
-    assert point.moving == ["acc.x"]  # the integrator of a constant keeps integrating
+    model = linearise(c, point, ["qcmd.value"], ["p", "qi"])
+    assert integrating(model, point) == ["acc.x"]  # the integrator of a constant keeps integrating
+    assert at_rest(model, point)
     assert "equilibrium" in point.how
 
 
@@ -156,3 +160,31 @@ def test_an_input_at_its_bound_is_differenced_one_sided():
         point = operating_point(c, {"load.g_x": g}, c.settings, at=0.0)
         model = linearise(c, point, ["load.g_x"], ["v"])
         assert model.B[state_index(model, "rod.v"), 0] == pytest.approx(1.0, rel=1e-6)  # dv/dt = ... + g_x
+
+
+def test_a_slow_mode_beside_a_fast_one_is_not_an_integrator():
+    """Found by a review: eigenvalues under 1e-9 of the largest were taken as 0, so a 2 l net drained by a
+    tiny leak (-0.01/s) beside a 0.01 cm^3 node (-1.6e8/s) was called an integrator, its gain 'none'."""
+    from blocks.linearise import LinearModel, OperatingPoint
+
+    A, B = np.diag([-0.01, -1.6e8]), np.array([[BETA / V], [0.0]])
+    model = LinearModel(A, B, np.array([[1.0, 0.0]]), np.zeros((1, 1)), ["P.p", "N.p"], ["Pa", "Pa"],
+                        np.array([1e5, 1e5]), ["q"], ["m^3/s"], ["p"], ["Pa"], OperatingPoint(0.0, np.zeros(2), {}, ""))
+    assert [m.eigenvalue for m in modes(model)] == [pytest.approx(-0.01, rel=1e-12), pytest.approx(-1.6e8)]
+    gain, why = steady_gain(model)
+    assert gain[0, 0] == pytest.approx(BETA / V / 0.01, rel=1e-12) and why[0, 0] == ""
+
+
+def test_a_free_body_elsewhere_leaves_the_gains_it_does_not_touch():
+    """Found by a review: a Jordan block anywhere (a free body's speed and position) made every steady-state
+    gain 'none (it integrates the input)'; the gain is computed on the states between input and output."""
+    c = circuit("linear_free")
+    point = operating_point(c, {}, c.settings, at=0.0)
+    model = linearise(c, point, ["qcmd.value", "fcmd.value"], ["p", "x"])
+    scale = model.state_nominal
+    _, right = np.linalg.eig(model.A * scale[None, :] / scale[:, None])
+    assert np.linalg.cond(right) > 1e12  # the premise: A is defective
+    gain, why = steady_gain(model)
+    assert gain[0, 0] == pytest.approx(1.0 / G, rel=1e-7) and why[0, 0] == ""  # p/q
+    assert why[0, 1] == GAIN_UNCOUPLED and why[1, 0] == GAIN_UNCOUPLED  # p/f, x/q
+    assert why[1, 1] == GAIN_DEFECTIVE and math.isnan(gain[1, 1])  # x/f: a double integrator

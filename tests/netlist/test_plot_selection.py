@@ -43,8 +43,9 @@ def test_chosen_signals_against_another_signal_in_display_units(tmp_path, capsys
     assert png.stat().st_size > 5000
 
 
-def test_without_x_and_y_every_signal_against_time(tmp_path, capsys, drawn):
-    assert cli.main(["run", str(STEP), "-q", "--plot", str(tmp_path / "r.png")]) == 0
+@pytest.mark.parametrize("x", [[], ["--x", "t"]])
+def test_without_x_and_y_every_signal_against_time(tmp_path, capsys, drawn, x):
+    assert cli.main(["run", str(STEP), "-q", "--plot", str(tmp_path / "r.png"), *x]) == 0
     assert sorted(c[0] for c in drawn) == ["so", "tf", "tf_full"]
     assert drawn[0][3].figure.axes[-1].get_xlabel() == "t [s]"
 

@@ -19,7 +19,7 @@ class ShuttleValve(Block):
     fully open and b -> out closed (leakage A_leak only), for p_a - p_b <= -dp_w/2 the reverse; in between
     the two areas are blended by the C1 cubic ramp, half open each at p_a = p_b. With the outlet
     dead-ended (a load-sense line, a brake port) p_out settles at the higher inlet pressure, lowered only
-    by the leak into the other inlet: by x with A_max*g(x) = A_leak*g(|p_a - p_b| + x), g the regularised
+    by the leak into the other inlet: by x with A_max*g(x) = A_leak*g(|p_a - p_b| - x), g the regularised
     root above, so x <= 2^(1/4)*(A_leak/A_max)*sqrt(dp_t*|p_a - p_b|) while x < dp_t (the open passage's
     tiny drop is in the linear part of the law): 1 mbar at 100 bar apart with the defaults and
     A_max = 10 mm^2; x <= sqrt(2)*(A_leak/A_max)^2*|p_a - p_b| otherwise. Inside the
