@@ -335,7 +335,7 @@ def _input_span(circuit, name: str, value: float) -> tuple[float, float]:
     return low, high
 
 
-REST = 1e-6  # 1/s: a state changing slower than this fraction of its nominal size per second is at rest
+REST = 1e-6  # a state whose rate would be undone by a step of this fraction of its nominal size is at rest
 
 
 def integrating(model: LinearModel, point: OperatingPoint) -> list[str]:
@@ -347,11 +347,15 @@ def integrating(model: LinearModel, point: OperatingPoint) -> list[str]:
 
 
 def at_rest(model: LinearModel, point: OperatingPoint) -> bool:
-    """Whether every state is at rest at the point (|dx_j/dt| <= REST * s_j), those that only integrate
-    (:func:`integrating`) apart."""
+    """Whether every state is at rest at the point, those that only integrate (:func:`integrating`) apart:
+    |dx_j/dt| <= REST * s_j * max(1/s, |A_jj|), the rate that a offset of REST * s_j from rest makes (an
+    equilibrium found to Newton's tolerance leaves a stiff node, 3e8/s, a rate of a few Pa/s)."""
     moving = integrating(model, point)
     resting = [j for j, name in enumerate(model.state_names) if name not in moving]
-    return not resting or float(np.max(np.abs(point.rates[resting]) / model.state_nominal[resting])) <= REST
+    if not resting:
+        return True
+    allowed = REST * model.state_nominal[resting] * np.maximum(1.0, np.abs(np.diag(model.A)[resting]))
+    return bool(np.all(np.abs(point.rates[resting]) <= allowed))
 
 
 def logged_values(circuit, point: OperatingPoint) -> dict[str, float]:
