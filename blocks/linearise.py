@@ -348,7 +348,7 @@ def integrating(model: LinearModel, point: OperatingPoint) -> list[str]:
 
 def at_rest(model: LinearModel, point: OperatingPoint) -> bool:
     """Whether every state is at rest at the point, those that only integrate (:func:`integrating`) apart:
-    |dx_j/dt| <= REST * s_j * max(1/s, |A_jj|), the rate that a offset of REST * s_j from rest makes (an
+    |dx_j/dt| <= REST * s_j * max(1/s, |A_jj|), the rate that an offset of REST * s_j from rest makes (an
     equilibrium found to Newton's tolerance leaves a stiff node, 3e8/s, a rate of a few Pa/s)."""
     moving = integrating(model, point)
     resting = [j for j, name in enumerate(model.state_names) if name not in moving]
