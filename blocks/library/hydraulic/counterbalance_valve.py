@@ -1,7 +1,7 @@
 """Generic counterbalance (load-holding, over-centre) valve."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import leakage_problem, smooth_max0, smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, opening_range_problem, smooth_max0, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -55,10 +55,8 @@ class CounterbalanceValve(Block):
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
-        if values["p_check_open"] <= values["p_check"]:
-            return (f"p_check_open = {values['p_check_open'] / 1e5:g} bar must be above p_check = "
-                    f"{values['p_check'] / 1e5:g} bar (the check valve opens over p_check ... p_check_open)")
-        return leakage_problem(values, "A_relief", "relief")
+        return (opening_range_problem(values, "p_check", "p_check_open", "check valve")
+                or leakage_problem(values, "A_relief", "relief"))
 
     @staticmethod
     def derivatives(V, C, pilot, p_set, R_pilot, dp_open, A_relief, A_check, p_check, p_check_open, A_leak, dp_w,

@@ -47,12 +47,12 @@ def smooth_max0(x, width):
     return (x + h) * (x + h) / (2.0 * width)
 
 
-def opening_range_problem(values: dict, setting: str) -> str | None:
+def opening_range_problem(values: dict, setting: str, full_open: str = "p_open", valve: str = "valve") -> str | None:
     """What is wrong with a valve's opening range (build time, plain Python): the full-open pressure
-    p_open must be above the cracking one (``setting``), or the area would jump from closed to open."""
-    if values["p_open"] <= values[setting]:
-        return (f"p_open = {values['p_open'] / 1e5:g} bar must be above {setting} = {values[setting] / 1e5:g} bar "
-                f"(the valve opens over {setting} ... p_open)")
+    (``full_open``) must be above the cracking one (``setting``), or the area would jump from closed to open."""
+    if values[full_open] <= values[setting]:
+        return (f"{full_open} = {values[full_open] / 1e5:g} bar must be above {setting} = {values[setting] / 1e5:g} bar "
+                f"(the {valve} opens over {setting} ... {full_open})")
     return None
 
 
