@@ -1,6 +1,11 @@
 """Editing a netlist as data: new parameters, components and nets, a port moved onto a new net; written as
 a new file (atomically), the original never touched.
 
+The new file keeps the original's text wherever the document did not change (its comments, quotes and
+layout: :mod:`blocks.netlist.yaml_roundtrip`), so that ``diff original.yaml new.yaml`` shows the edits and
+nothing else; a header of comments above a rule says what vphs wrote it for (a file written from one that
+vphs wrote gets the new header in place of the old).
+
 The document is the file's YAML mapping (read with :func:`blocks.netlist.yaml_source.read_yaml`, so the
 same safe subset and bounds apply). Only the top level of the file is edited: components inside a
 subsystem are not patched (their nets and ports are still reachable through the subsystem's exposed ports).
@@ -16,6 +21,7 @@ from pathlib import Path
 
 import yaml
 
+from blocks.netlist.yaml_roundtrip import dump_over
 from blocks.netlist.yaml_source import read_yaml
 from blocks.result import atomic_write_text
 from blocks.units import display_factor
@@ -24,19 +30,20 @@ from blocks.units import display_factor
 class NetlistDoc:
     """A netlist file's mapping, editable; remembers the folder its relative paths are relative to."""
 
-    def __init__(self, data: dict, folder: Path):
+    def __init__(self, data: dict, folder: Path, text: str | None = None):
         self.data = data
         self.folder = Path(folder)
+        self.text = text  # the file's text, which the written file keeps where the document is unchanged
         self.notes: list[str] = []
         self.origin: dict[str, str] = {}  # a node added by move_port -> the net whose oil it holds
 
     @classmethod
     def read(cls, file: str | Path) -> "NetlistDoc":
         located = read_yaml(file)
-        return cls(copy.deepcopy(located.data), Path(file).resolve().parent)
+        return cls(copy.deepcopy(located.data), Path(file).resolve().parent, read_text(file))
 
     def copy(self) -> "NetlistDoc":
-        doc = NetlistDoc(copy.deepcopy(self.data), self.folder)
+        doc = NetlistDoc(copy.deepcopy(self.data), self.folder, self.text)
         doc.notes = list(self.notes)
         doc.origin = dict(self.origin)
         return doc
@@ -119,12 +126,35 @@ class NetlistDoc:
     # ---- writing ----------------------------------------------------------------------------------
     def write(self, path: str | Path, header: str = "") -> Path:
         path = Path(path).resolve()
-        data = _rebase(copy.deepcopy(self.data), self.folder, path.parent)
-        text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=110)
-        if header:
-            text = "".join(f"# {line}\n" if line else "#\n" for line in header.splitlines()) + text
-        atomic_write_text(path, text)
+        write_yaml(path, _rebase(copy.deepcopy(self.data), self.folder, path.parent), self.text, header)
         return path
+
+
+HEADER_RULE = "# ---- written by vphs above this line ----"
+
+
+def read_text(file: str | Path) -> str:
+    """A YAML file's text (already read once by :func:`read_yaml`, which refuses what is not UTF-8), the
+    header vphs wrote above :data:`HEADER_RULE` left out."""
+    text = Path(file).read_bytes().decode("utf-8-sig")
+    lines = text.splitlines(keepends=True)
+    for k, line in enumerate(lines):
+        if not line.startswith("#"):
+            break
+        if line.rstrip("\r\n") == HEADER_RULE:
+            return "".join(lines[k + 1:])
+    return text
+
+
+def write_yaml(path: Path, data: dict, original: str | None, header: str = "") -> None:
+    """``data`` to ``path`` atomically: over the text ``original`` where that can be done faithfully, else
+    afresh; ``header`` (lines) above the rule."""
+    text = dump_over(original, data) if original is not None else None
+    if text is None:
+        text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=110)
+    if header:
+        text = "".join(f"# {line}\n" if line else "#\n" for line in header.splitlines()) + HEADER_RULE + "\n" + text
+    atomic_write_text(path, text)
 
 
 def _rebase(data: dict, old: Path, new: Path) -> dict:

@@ -32,7 +32,6 @@ from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
-import yaml
 
 from blocks.calibrate.candidates import Context, registered
 from blocks.calibrate.data import Dataset, load_data
@@ -45,12 +44,11 @@ from blocks.calibrate.latent_trace import choose_knots, knot_values
 from blocks.calibrate.levels import level_read
 from blocks.calibrate.model import Model
 from blocks.calibrate.outliers import gross_residuals
-from blocks.calibrate.patch import NetlistDoc, rounded, written
+from blocks.calibrate.patch import NetlistDoc, read_text, rounded, write_yaml, written
 from blocks.calibrate.screening import Score, screen
 from blocks.calibrate.selection import Decision, better_start, decide
 from blocks.calibrate.stats import LackOfFit, drift, lack_of_fit
 from blocks.calibrate.verdict import final_effects, verdict
-from blocks.result import atomic_write_text
 
 # (the thesis's real data start at 29.5 with the flow force missing; a pressure read as a flow gave 1e6)
 SCREENING_TOLERANCE = 1.0  # sigma: the screening netlist at zero is the fitted model; a larger difference in
@@ -686,7 +684,6 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
     data["free"] = free
     if corrections:
         data["corrections"] = corrections
-    text = "# written by vphs calibrate: the experiment with the accepted effects\n" + yaml.safe_dump(
-        data, sort_keys=False, width=110)
-    atomic_write_text(target, text)
+    write_yaml(target, data, read_text(exp.file), header="Written by vphs calibrate: the experiment with the "
+                                                         "accepted effects.")
     return target
