@@ -112,8 +112,8 @@ def translational(name: str, description: str, stores: bool = False) -> Port:
 class Param:
     """One parameter: name, SI unit, default, bounds [lower, upper] (None: open), description.
 
-    ``fluid`` names a netlist-level fluid property (rho, nu, beta) whose value the parameter takes unless
-    the component overrides it. ``array`` parameters are vectors (tables, polynomial coefficients) whose
+    ``fluid`` names a netlist-level fluid property (rho, nu, beta, vapour_pressure) whose value the parameter
+    takes unless the component overrides it. ``array`` parameters are vectors (tables, polynomial coefficients) whose
     length is fixed when the circuit is built; their default is a tuple.
     """
 

@@ -257,7 +257,8 @@ def test_motor_friction_is_the_lost_fraction_of_hydraulic_torque_opposing_motion
 
 
 # ---------------------------------------------------------------- pumps
-PUMP = dict(D=28e-6 / (2 * math.pi), J_p=0.002, eta_hm=1.0, w_w=0.1)  # 28 cm^3/rev
+P_VAP = -0.9 * BAR  # the fluid's vapour pressure (gauge)
+PUMP = dict(D=28e-6 / (2 * math.pi), J_p=0.002, eta_hm=1.0, w_w=0.1, p_vap=P_VAP)  # 28 cm^3/rev
 
 
 def pump(ps, pp, w, G=0.0, **over):
@@ -321,7 +322,7 @@ def test_pump_friction_smooth_through_standstill():
 
 
 VPUMP = dict(D_max=45e-6 / (2 * math.pi), p_c=200 * BAR, dp_c=4 * BAR, tau_c=0.02, eps_max=1.0, J_p=0.004,
-             eta_hm=1.0, w_w=0.1)
+             eta_hm=1.0, w_w=0.1, p_vap=P_VAP)
 
 
 def vpump(ps, pp, w, eps, G=0.0, **over):
@@ -332,6 +333,28 @@ def cubic_step(x, x0, width):
     """The C1 ramp the valves open by, written out: 0 below x0, 1 above x0 + width, 3s^2 - 2s^3 between."""
     s = min(max((x - x0) / width, 0.0), 1.0)
     return s * s * (3.0 - 2.0 * s)
+
+
+FILL_BAND = 500.0  # Pa: below p_vap the chambers' fill falls from 1 to 0 over this band (0.005 bar)
+
+
+@pytest.mark.parametrize("below, fill", [(-1e5, 1.0), (0.0, 1.0), (FILL_BAND / 4, 1 - 0.15625), (FILL_BAND / 2, 0.5),
+                                         (FILL_BAND, 0.0), (0.3 * BAR, 0.0)])
+@pytest.mark.parametrize("backwards", [False, True])
+def test_pump_chambers_fill_only_from_liquid(below, fill, backwards):
+    """The side the chambers fill from (s turning forwards, p backwards) at p_vap - below: the displaced
+    flow and the oil's torque scale with the fill f = 1 - cubic_step(below, 0, 0.005 bar); the leakage
+    does not. The other side's pressure does not enter f."""
+    G, w, high = 2e-12, 150.0, 120 * BAR
+    p_in = P_VAP - below
+    ps, pp, w = (high, p_in, -w) if backwards else (p_in, high, w)
+    assert fill == pytest.approx(1 - cubic_step(below, 0.0, FILL_BAND), abs=1e-12)
+    d = pump(ps, pp, w, G)
+    assert d["q_p"] == pytest.approx(fill * PUMP["D"] * w - G * (pp - ps), rel=1e-12, abs=1e-18)
+    assert d["q_s"] == -d["q_p"]
+    assert d["tau_shaft"] == pytest.approx(-fill * PUMP["D"] * (pp - ps), rel=1e-12, abs=1e-15)
+    v = vpump(ps, pp, w, 0.4, G)
+    assert v["q_p"] == pytest.approx(fill * 0.4 * VPUMP["D_max"] * w - G * (pp - ps), rel=1e-12, abs=1e-18)
 
 
 @pytest.mark.parametrize("eps_max", [1.0, 0.6])

@@ -38,7 +38,7 @@ NAMES = list(TYPES)
 
 # The fluid a component reads when the netlist's `fluid:` section is left at its defaults.
 FLUID = {key: quantity(getattr(Fluid(), key), unit) for key, unit in
-         (("rho", "kg/m^3"), ("nu", "m^2/s"), ("beta", "Pa"))}
+         (("rho", "kg/m^3"), ("nu", "m^2/s"), ("beta", "Pa"), ("vapour_pressure", "Pa"))}
 
 # Parameter values for blocks whose required parameters need more than "inside the bounds" to be a valid,
 # non-degenerate operating point (their check_values asks for it, or the generic value makes the block

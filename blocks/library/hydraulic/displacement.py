@@ -5,19 +5,36 @@ import math
 
 from numba import njit
 
+from blocks.library.hydraulic.cavitation import CAVITY_ONSET
+from blocks.library.hydraulic.flow import smooth_step
+
+
+FILL_BAND = 0.1 * CAVITY_ONSET  # Pa: below p_vap, the chambers' fill falls from 1 to 0 over this band
+
 
 @njit(cache=True)
-def pump_flow_and_torque(D, dp, w, G_leak, eta_hm, w_w):
-    """(q, tau) of a pump of displacement D [m^3/rad] turning at w [rad/s] against dp = p_out - p_in [Pa].
+def pump_flow_and_torque(D, p_s, p_p, w, G_leak, eta_hm, w_w, p_vap):
+    """(q, tau) of a pump of displacement D [m^3/rad] turning at w [rad/s] between its suction p_s and its
+    outlet p_p [Pa], dp = p_p - p_s.
 
-    q = D*w - G_leak*dp                                     delivered to the outlet [m^3/s]
-    tau_h = -D*dp                                           torque the oil exerts on the shaft [N*m]
+    f = smooth_step(p_in, p_vap - dp_f, dp_f)               liquid fill of the chambers from the side they
+                                                            fill from: p_in = p_s for w >= 0, p_p for w < 0
+    q = f*D*w - G_leak*dp                                   delivered to the outlet [m^3/s]
+    tau_h = -f*D*dp                                         torque the oil exerts on the shaft [N*m]
     tau = tau_h - (1/eta_hm - 1)*|tau_h|*tanh(w/w_w)        torque on the shaft [N*m]
 
     The loss term is a Coulomb-like friction opposing w, of the size that makes the shaft power
-    -tau*w = D*dp*w/eta_hm while pumping (dp*w > 0, |w| >> w_w).
+    -tau*w = f*D*dp*w/eta_hm while pumping (dp*w > 0, |w| >> w_w). The fill f is 1 at and above the fluid's
+    vapour pressure p_vap (the expressions are then those without it, bit for bit) and falls to 0 over the
+    band dp_f = FILL_BAND (0.005 bar) below it: chambers that fill from a net drawn below p_vap fill with
+    vapour, so a pump delivers no more oil than its inlet gets (a closed or starved suction line ends its
+    delivery instead of growing a cavity in it without end). The band is the top tenth of the one over
+    which a net's liquid gives way to its vapour cavity (blocks.library.hydraulic.cavitation), where that
+    cavity is still under 0.5 cm^3: the oil a pump draws from a closed net is the net's own, not a cavity's.
     """
-    q = D * w - G_leak * dp
-    tau_h = -D * dp
+    f = smooth_step(p_s if w >= 0.0 else p_p, p_vap - FILL_BAND, FILL_BAND)
+    dp = p_p - p_s
+    q = f * D * w - G_leak * dp
+    tau_h = -f * D * dp
     tau = tau_h - (1.0 / eta_hm - 1.0) * abs(tau_h) * math.tanh(w / w_w)
     return q, tau

@@ -22,8 +22,10 @@ class PressureReducingValve(Block):
     so the two edges never open together and no oil passes straight from P to T. The relieving edge opens
     over the same width dp_band above that and reaches A_relief at p_set + 2*dp_band + dp_relief: oil pushed
     back into A (an overrunning load, thermal expansion) is let out to T there. With the outlet dead-ended
-    the pressure settles near the top of the overlap, where the relieving edge passes the reducing edge's
-    leakage. The reducing edge has no check valve: with p_A above p_P and the edge open, oil flows back A -> P.
+    the pressure settles in the overlap, where the two edges' leakages balance: near its top when the
+    supply is high (p_P - p_A > p_A - p_T: the reducing edge's leakage is the larger, so the relieving
+    edge must start to open), near its bottom, p_set + dp_band, when it is not (the reducing edge must
+    start to open). The reducing edge has no check valve: with p_A above p_P and the edge open, oil flows back A -> P.
     The spool is quasi-static (no spool state).
 
     Delivered to the nets: q_P = -q_PA, q_A = q_PA - q_AT, q_T = q_AT (they sum to zero: no oil stored).

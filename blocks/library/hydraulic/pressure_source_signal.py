@@ -12,7 +12,10 @@ class PressureSourceSignal(Block):
 
     A pressure ramp or a measured pressure trace imposed on a circuit (a test rig's supply, a load-sense
     line). The signal passes straight to the net: a block whose outputs read that net's pressure and feed
-    back into p closes an algebraic loop, which the netlist check reports.
+    back into p closes an algebraic loop, which the netlist check reports. The signal is taken as given,
+    unbounded: below the fluid's vapour pressure (at most, absolute vacuum: -1.013 bar gauge) it holds a
+    pressure no oil can have, and the run cannot warn of it (the net has no state to check), unlike the
+    constant `pressure_source`, whose p is checked against -1 bar.
     """
 
     ports = (hydraulic("port", "the net held at pressure p"), signal_in("p", "pressure to hold (gauge)", "Pa"))

@@ -10,9 +10,10 @@ class Pump(Block):
     """Fixed-displacement pump driven by its shaft, with laminar internal leakage; stores its own inertia.
 
     dp = p_p - p_s                                        pressure rise from suction s to outlet p [Pa]
-    q = D*w - G_leak*dp                                   flow delivered from s to p [m^3/s]
+    f = smooth_step(p_in, p_vap - dp_f, dp_f)            fill of the chambers from p_in = p_s (w >= 0), p_p (w < 0)
+    q = f*D*w - G_leak*dp                                 flow delivered from s to p [m^3/s]
     q_s = -q,  q_p = +q
-    tau_h = -D*dp                                         torque of the oil on the shaft [N*m]
+    tau_h = -f*D*dp                                       torque of the oil on the shaft [N*m]
     tau = tau_h - (1/eta_hm - 1)*|tau_h|*tanh(w/w_w)      torque on the shaft [N*m]
     J_shaft = J_p                                         inertia added to the shaft net [kg*m^2]
 
@@ -25,12 +26,19 @@ class Pump(Block):
     dissipating (1/eta_hm - 1)*|D*dp*w|, and the leakage dissipates G_leak*dp^2 (volumetric efficiency
     1 - G_leak*dp/(D*w)). eta_hm = 1 (the default) is the lossless pump.
 
+    Filling: f = 1 while the side the chambers fill from is at or above the fluid's vapour pressure p_vap
+    (the usual case; the equations are then those without f, bit for bit). Below it the chambers take in
+    vapour, and f falls to 0 over dp_f = 0.005 bar: a pump delivers no more than its suction line lets in
+    (the suction-limited flow of a starved pump), and a closed suction ends its delivery once its own oil
+    is drawn out, instead of growing a cavity in the suction net without end.
+
     Motoring (dp*w < 0: the outlet pressure drives the shaft backwards, w < 0, e.g. an accumulator on p
     after the prime mover stops): oil flows from p back to s and the machine is a motor with
     tau*w = (2 - 1/eta_hm)*|D*dp*w| on the shaft (0.889 of the hydraulic power for eta_hm = 0.9, not
     eta_hm: the friction is the same (1/eta_hm - 1)*|tau_h| in every quadrant). Hence eta_hm >= 0.5: below,
     the friction would exceed the hydraulic torque. Driven backwards against no pressure, it draws oil
-    out of p into s (the outlet line cavitates); a check valve at the outlet is the usual remedy.
+    out of p into s until the outlet line cavitates (then f falls, and with it the flow); a check valve at
+    the outlet is the usual remedy.
     """
 
     ports = (
@@ -44,9 +52,10 @@ class Pump(Block):
         Param("J_p", "kg*m^2", None, 0.0, 1e6, "inertia of the rotating group, added to the shaft net"),
         Param("eta_hm", "1", 1.0, 0.5, 1.0, "hydro-mechanical efficiency: shaft power D*dp*w/eta_hm when pumping"),
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
+        Param("p_vap", "Pa", None, -1.01325e5, 1e6, "vapour pressure (gauge): chambers filling below it take in vapour", fluid="vapour_pressure"),
     )
 
     @staticmethod
-    def derivatives(s, p, shaft, D, G_leak, J_p, eta_hm, w_w):
-        q, tau = pump_flow_and_torque(D, p - s, shaft, G_leak, eta_hm, w_w)
+    def derivatives(s, p, shaft, D, G_leak, J_p, eta_hm, w_w, p_vap):
+        q, tau = pump_flow_and_torque(D, s, p, shaft, G_leak, eta_hm, w_w, p_vap)
         return -q, q, tau, J_p

@@ -15,9 +15,10 @@ class VariablePump(Block):
     eps_target = eps_max*(1 - smooth_step(dp, p_c, dp_c))  full stroke below p_c, none above p_c + dp_c [1]
     d(eps)/dt = (eps_target - eps)/tau_c                   the stroking mechanism's first-order lag [1/s]
     e = min(max(eps, 0), eps_max)                          displacement fraction in use; output displacement
-    q = e*D_max*w - G_leak*dp                              flow delivered from s to p [m^3/s]
+    f = smooth_step(p_in, p_vap - dp_f, dp_f)             fill of the chambers from p_in = p_s (w >= 0), p_p (w < 0)
+    q = f*e*D_max*w - G_leak*dp                            flow delivered from s to p [m^3/s]
     q_s = -q,  q_p = +q
-    tau_h = -e*D_max*dp                                    torque of the oil on the shaft [N*m]
+    tau_h = -f*e*D_max*dp                                  torque of the oil on the shaft [N*m]
     tau = tau_h - (1/eta_hm - 1)*|tau_h|*tanh(w/w_w)       torque on the shaft [N*m]
     J_shaft = J_p                                          inertia added to the shaft net [kg*m^2]
 
@@ -32,8 +33,10 @@ class VariablePump(Block):
     full to zero flow); dead-headed it delivers only its leakage. The compensator senses p_p - p_s (the
     suction is usually the tank).
 
-    Sign convention and power as for `pump` with D = e*D_max: w > 0 pumps from s to p; the shaft supplies
-    -tau*w = e*D_max*dp*w/eta_hm while pumping; running backwards against a pressurised outlet it motors.
+    Sign convention, power and filling as for `pump` with D = e*D_max: w > 0 pumps from s to p; the shaft
+    supplies -tau*w = f*e*D_max*dp*w/eta_hm while pumping; running backwards against a pressurised outlet
+    it motors; a suction drawn below the vapour pressure fills the chambers with vapour (f < 1), which
+    limits the flow to what the suction line lets in.
     """
 
     ports = (
@@ -53,6 +56,7 @@ class VariablePump(Block):
         Param("eta_hm", "1", 1.0, 0.5, 1.0,
               "hydro-mechanical efficiency: shaft power e*D_max*dp*w/eta_hm when pumping"),
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
+        Param("p_vap", "Pa", None, -1.01325e5, 1e6, "vapour pressure (gauge): chambers filling below it take in vapour", fluid="vapour_pressure"),
     )
     states = (State("eps", "1", 1.0, 1.0, "displacement fraction of the stroking mechanism (1 = full stroke)"),)
 
@@ -68,9 +72,9 @@ class VariablePump(Block):
         return (clamp(eps, 0.0, eps_max),)
 
     @staticmethod
-    def derivatives(s, p, shaft, eps, D_max, p_c, dp_c, tau_c, eps_max, G_leak, J_p, eta_hm, w_w):
+    def derivatives(s, p, shaft, eps, D_max, p_c, dp_c, tau_c, eps_max, G_leak, J_p, eta_hm, w_w, p_vap):
         dp = p - s
         target = eps_max * (1.0 - smooth_step(dp, p_c, dp_c))
         e = clamp(eps, 0.0, eps_max)
-        q, tau = pump_flow_and_torque(e * D_max, dp, shaft, G_leak, eta_hm, w_w)
+        q, tau = pump_flow_and_torque(e * D_max, s, p, shaft, G_leak, eta_hm, w_w, p_vap)
         return -q, q, tau, J_p, (target - eps) / tau_c

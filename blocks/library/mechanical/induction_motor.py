@@ -22,7 +22,10 @@ class InductionMotor(Block):
 
     From a data sheet: w_sync = 2*pi*f/(pole pairs) (1500 rpm for four poles at 50 Hz); with the rated slip
     s_N = (w_sync - w_N)/w_sync and the breakdown ratio k = T_b/T_N (T_N = P_N/w_N), Kloss at the rated
-    point gives s_b = s_N*(k + sqrt(k^2 - 1)). Left out: the electrical transients (the torque pulsations of
+    point gives s_b = s_N*(k + sqrt(k^2 - 1)). Fitted so to the rated and breakdown points, Kloss's curve
+    gives too little starting torque for a cage motor (deep rotor bars raise it: data sheets give 1.5 to
+    2.5 T_N, Kloss about 0.8 T_N for k = 2.8, s_N = 0.027), so a direct-on-line start takes longer here
+    than on the machine; the running range, s <= s_b, is where it holds. Left out: the electrical transients (the torque pulsations of
     a direct-on-line start), the stator resistance (which makes the generating breakdown torque larger
     than the motoring one), magnetic saturation and the supply's voltage drop.
     """
