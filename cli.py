@@ -537,8 +537,8 @@ def cmd_linearise(args) -> int:
     f_min, f_max = _frequency(args.f_min, "--f-min"), _frequency(args.f_max, "--f-max")
     if not 0 < f_min < f_max < math.inf:
         raise ArgumentError(f"vphs: --f-min {args.f_min} and --f-max {args.f_max}: need 0 < f-min < f-max, both finite")
-    if args.points < 2:
-        raise ArgumentError(f"vphs: --points {args.points}: need at least 2")
+    if not 2 <= args.points <= MAX_RESPONSE_POINTS:
+        raise ArgumentError(f"vphs: --points {args.points}: need 2 to {MAX_RESPONSE_POINTS}")
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
     overrides = parse_overrides(args.set, circuit, {"t_end": "--at"})
     circuit.vectors(overrides)
@@ -569,7 +569,7 @@ def cmd_linearise(args) -> int:
     found = modes(model)
     out_units = [logged[name].display_unit for name in model.output_names]
     print(f"# {args.netlist} linearised about {point.how}")
-    for note in _linear_notes(model, point):
+    for note in _linear_notes(model, point, found):
         print(f"# {note}")
     shown = [f"{name} = {value / parse_unit(logged[name].display_unit).factor:.6g}"
              + ("" if logged[name].display_unit == "1" else f" {logged[name].display_unit}")
@@ -611,8 +611,14 @@ def cmd_linearise(args) -> int:
     return 0
 
 
+MAX_RESPONSE_POINTS = 100_000  # frequencies of a response: a Bode plot needs hundreds; 1e9 would fill the memory
+
+
 def _check_linearise_files(files: dict[str, str | None], netlist: str) -> None:
-    given = {option: path for option, path in files.items() if path}
+    given = {option: path for option, path in files.items() if path is not None}
+    for option, path in given.items():
+        if not path.strip() or path.endswith(("/", os.sep)):
+            raise ArgumentError(f"vphs: {option} '{path}': name a file")
     seen: dict[Path, str] = {}
     for option, path in given.items():
         resolved = Path(path).resolve()
@@ -665,16 +671,27 @@ def _linear_inputs(written: list[str], circuit) -> tuple[list[str], list[str]]:
     return names, units
 
 
-def _linear_notes(model, point) -> list[str]:
-    """What to know about the point: the states that only integrate (a steady motion), and the
-    fastest-changing state when the point is not at rest."""
+def _linear_notes(model, point, found) -> list[str]:
+    """What to know about the point: the states that only integrate (a steady motion), a mode that grows
+    (an unstable point), and the fastest-changing state when the point is not at rest."""
+    import math
+
     import numpy as np
 
     from blocks.linearise import at_rest, integrating
 
     notes, moving = [], integrating(model, point)
     if moving:
-        notes.append(f"in steady motion: {', '.join(moving)} keep integrating and act on nothing else")
+        notes.append(f"in steady motion: {', '.join(moving)} keep{'s' if len(moving) == 1 else ''} integrating "
+                     f"and act{'s' if len(moving) == 1 else ''} on nothing else")
+    fastest = max((abs(m.eigenvalue) for m in found), default=0.0)
+    growing = [m for m in found if m.eigenvalue.real > UNSTABLE * fastest]
+    if growing:
+        lam = max(growing, key=lambda m: m.eigenvalue.real).eigenvalue
+        shown = f"{lam.real:.4g}" + (f" ± {abs(lam.imag):.4g}j" if lam.imag else "")
+        notes.append(f"UNSTABLE: {len(growing)} mode{'s grow' if len(growing) > 1 else ' grows'} (fastest: "
+                     f"lambda = {shown}, doubling in {math.log(2) / lam.real:.3g} s): the circuit leaves this "
+                     f"point, and its steady-state gains describe a state it does not stay in")
     if not at_rest(model, point):
         resting = [j for j, name in enumerate(model.state_names) if name not in moving]
         scaled = np.abs(point.rates) / model.state_nominal
@@ -683,6 +700,9 @@ def _linear_notes(model, point) -> list[str]:
         notes.append(f"not at rest: {model.state_names[j]} changes at {rate:.3g} {unit}/s (the modes describe "
                      f"small motions about this point of the run; --equilibrium linearises about a rest point)")
     return notes
+
+
+UNSTABLE = 1e-9  # a mode grows when Re(lambda) exceeds this fraction of the fastest |lambda| (not round-off)
 
 
 COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "diff": cmd_diff,

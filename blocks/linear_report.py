@@ -39,7 +39,7 @@ def taking_part(mode: Mode) -> str:
 
 
 def modes_table(found: list[Mode]) -> str:
-    """The modes as aligned text, slowest first."""
+    """The modes as aligned text, lowest |eigenvalue| first."""
     rows = [("#", "f_n [Hz]", "zeta", "tau [s]", "eigenvalue [1/s]", "states (share)")]
     for k, mode in enumerate(found, 1):
         if mode.eigenvalue == 0:

@@ -185,7 +185,7 @@ def linearise(circuit, point: OperatingPoint, inputs: list[str] | tuple = (),
 
 
 def modes(model: LinearModel) -> list[Mode]:
-    """The eigenvalues of A, each complex pair once, slowest first, with the states taking part."""
+    """The eigenvalues of A, each complex pair once, lowest |eigenvalue| first, with the states taking part."""
     values, left, right = _eigen(model)
     found = []
     for k, value in enumerate(values):

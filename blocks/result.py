@@ -135,15 +135,24 @@ def write_together(*files) -> None:
     """Write files as one: each ``(path, write)`` pair's ``write(tmp)`` fills a temporary file beside its
     target (of the target's suffix, which matplotlib reads the format from), and only when every one is
     written are they renamed into place, a Ctrl-C during those renames taken after them. An error or an interrupt
-    before then leaves every target as it was: a results CSV and its plot are never of two different runs."""
+    before then leaves every target as it was: a results CSV and its plot are never of two different runs.
+
+    A target that is a symbolic link is written through: the file it points to is replaced, the link kept.
+    A target that exists and is not a regular file (a named pipe, /dev/stdout, a device) cannot be replaced
+    by a rename without being destroyed: what was staged for it is copied into it instead."""
     import signal
     import threading
 
     staged: list[tuple[Path, Path]] = []
     try:
         for path, write in files:
-            path.parent.mkdir(parents=True, exist_ok=True)
-            fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=path.suffix or ".tmp")
+            if _special(path):
+                folder = Path(tempfile.gettempdir())
+            else:
+                path = Path(os.path.realpath(path))
+                path.parent.mkdir(parents=True, exist_ok=True)
+                folder = path.parent
+            fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{path.name}.", suffix=path.suffix or ".tmp")
             os.close(fd)
             staged.append((Path(tmp), path))
             write(Path(tmp))
@@ -156,7 +165,10 @@ def write_together(*files) -> None:
             previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(signum))
         try:
             for tmp, path in staged:
-                os.replace(tmp, path)
+                if _special(path):
+                    _copy_into(tmp, path)
+                else:
+                    os.replace(tmp, path)
         finally:
             if held:
                 signal.signal(signal.SIGINT, previous)
@@ -166,3 +178,20 @@ def write_together(*files) -> None:
         for tmp, _ in staged:
             tmp.unlink(missing_ok=True)
         raise
+
+
+def _special(path: Path) -> bool:
+    """Whether ``path`` (its links followed) exists and is neither a regular file nor a folder."""
+    return path.exists() and not path.is_file() and not path.is_dir()
+
+
+def _copy_into(staged: Path, target: Path) -> None:
+    """The staged file's bytes written into ``target`` (a pipe, a device), the staged file removed."""
+    import shutil
+
+    try:
+        with open(staged, "rb") as source, open(target, "wb") as sink:
+            shutil.copyfileobj(source, sink)
+    except OSError as exc:  # a full device: said of the target, not of a nameless write
+        raise OSError(exc.errno, exc.strerror, str(target)) from None
+    staged.unlink()

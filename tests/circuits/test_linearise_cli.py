@@ -76,6 +76,9 @@ def test_modes_table_and_files_in_the_units_asked_for(tmp_path, capsys):
     (["-o", str(MODES)], "is an input of this command"),
     (["--set", "V=-1 l"], "must be positive"),
     (["--equilibrium"], "no equilibrium found"),
+    (["--input", "m", "--points", "1000000000"], "--points 1000000000: need 2 to 100000"),
+    (["--response", ""], "--response '': name a file"),
+    (["--state-space", "{tmp}/folder/"], "name a file"),
 ])
 def test_refusals_are_one_line_and_write_nothing(tmp_path, capsys, args, message):
     args = [a.replace("{tmp}", str(tmp_path)) for a in args]
@@ -95,7 +98,7 @@ def test_what_is_said_of_the_operating_point(capsys):
     rest = NETLISTS / "linear_rest.yaml"
     code, out, err = run(capsys, rest, "-q", "--equilibrium")
     assert code == 0, err
-    assert "# in steady motion: acc.x keep integrating" in out and "not at rest" not in out
+    assert "# in steady motion: acc.x keeps integrating" in out and "not at rest" not in out
     assert "# there: p = 50 bar," in out  # q/G = 1e-4 m^3/s / 2e-11 m^3/(s*Pa)
     code, out, err = run(capsys, rest, "-q", "--at", "50 ms")
     assert code == 0, err
@@ -103,3 +106,27 @@ def test_what_is_said_of_the_operating_point(capsys):
     p = q / G + (1e5 - q / G) * math.exp(-0.05 / tau)
     rate = BETA / V * (q - G * p) / 1e5  # bar/s
     assert f"# not at rest: P.p changes at {rate:.3g} bar/s" in out
+
+
+UNSTABLE = """
+description: dx/dt = 2*x, a state that doubles in ln(2)/2 = 0.347 s; its equilibrium is x = 0
+components:
+  grow: {type: integrator, initial: {x: 1e-6}}
+  back: {type: gain, params: {k: 2}}
+nets:
+  x: [grow.y, back.u]
+  u: [back.y, grow.u]
+outputs: {x: {of: grow.y}}
+simulation: {t_end: "0.1 s"}
+"""
+
+
+def test_an_unstable_point_is_said_to_be_one(tmp_path, capsys):
+    """Found by a user review: about an unstable equilibrium the gains were printed as if it held."""
+    (tmp_path / "grow.yaml").write_text(UNSTABLE)
+    code, out, err = run(capsys, tmp_path / "grow.yaml", "-q", "--equilibrium", "--input", "back.k")
+    assert code == 0, err
+    assert "# UNSTABLE: 1 mode grows (fastest: lambda = 2, doubling in 0.347 s): the circuit leaves this " \
+           "point" in out
+    code, out, err = run(capsys, NETLISTS / "linear_rest.yaml", "-q", "--equilibrium")
+    assert code == 0 and "UNSTABLE" not in out

@@ -100,3 +100,42 @@ def test_a_file_system_that_refuses_the_write_mid_run_is_one_line(tmp_path, monk
     monkeypatch.setattr(blocks.result, "write_together", full)
     code = cli.main(["run", str(DRIVE), "-q", "--t-end", "0.1 s", "-o", str(tmp_path / "r.csv")])
     assert code == 1 and capsys.readouterr().err == f"vphs: {tmp_path / 'r.csv'}: No space left on device\n"
+
+
+def test_a_symbolic_link_is_written_through_and_kept(tmp_path):
+    """Found by a linearise review: `-o link.csv` replaced the link with a file and left its target stale."""
+    (tmp_path / "real").mkdir()
+    target = tmp_path / "real" / "results.csv"
+    target.write_text("old")
+    link = tmp_path / "link.csv"
+    link.symlink_to(Path("real") / "results.csv")
+    write_together((link, lambda tmp: tmp.write_text("new")))
+    assert link.is_symlink() and target.read_text() == "new"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "real"]
+
+
+def test_a_named_pipe_is_written_into_not_replaced(tmp_path):
+    """A pipe (or /dev/stdout) cannot be renamed over without being destroyed: the staged bytes go into it,
+    and what reads the pipe gets them."""
+    import os
+    import threading
+
+    fifo = tmp_path / "stream.csv"
+    os.mkfifo(fifo)
+    got = []
+    reader = threading.Thread(target=lambda: got.append(fifo.read_text()))
+    reader.start()
+    write_together((fifo, lambda tmp: tmp.write_text("t [s]\n0\n")))
+    reader.join(timeout=10)
+    assert got == ["t [s]\n0\n"]
+    assert not fifo.is_file() and fifo.exists()  # still the pipe
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["stream.csv"]
+
+
+def test_a_full_device_is_one_line_naming_it(tmp_path, capsys):
+    if not Path("/dev/full").exists():
+        pytest.skip("no /dev/full here")
+    code = cli.main(["run", str(DRIVE), "--t-end", "0.01", "-q", "-o", "/dev/full"])
+    err = capsys.readouterr().err
+    assert code == 1 and err == "vphs: /dev/full: No space left on device\n"
+    assert Path("/dev/full").is_char_device()
