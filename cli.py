@@ -678,12 +678,24 @@ def _linear_notes(model, point, found) -> list[str]:
 
     import numpy as np
 
-    from blocks.linearise import at_rest, integrating
+    from blocks.linearise import REST, at_rest, integrating
 
     notes, moving = [], integrating(model, point)
     if moving:
         notes.append(f"in steady motion: {', '.join(moving)} keep{'s' if len(moving) == 1 else ''} integrating "
                      f"and act{'s' if len(moving) == 1 else ''} on nothing else")
+    if point.moving:
+        names = list(model.state_names)
+        held = [names.index(name) for name in point.moving]
+        rest = [j for j in range(len(names)) if j not in held and names[j] not in moving]
+        acting = model.A[np.ix_(rest, held)]
+        drift = acting @ point.rates[held]  # how the others' rates change as the positions move (per s)
+        terms = np.abs(acting) @ np.abs(point.rates[held])  # what cancels there when they move together
+        allowed = REST * model.state_nominal[rest] * np.maximum(1.0, np.abs(np.diag(model.A)[rest]))
+        if np.any((np.abs(drift) > allowed) & (np.abs(drift) > 1e-3 * terms)):
+            notes.append(f"a snapshot: as {', '.join(point.moving)} move{'s' if len(held) == 1 else ''}, the "
+                         f"others' rest changes (a spring, an end stop, a servo's error still settling): the "
+                         f"point holds where {'it is' if len(held) == 1 else 'they are'}, not along the motion")
     fastest = max((abs(m.eigenvalue) for m in found), default=0.0)
     growing = [m for m in found if m.eigenvalue.real > UNSTABLE * fastest]
     if growing:

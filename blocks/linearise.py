@@ -54,6 +54,7 @@ class OperatingPoint:
     overrides: dict[str, float]
     how: str  # "the state at t = 2 s of the run", "the equilibrium with the inputs at t = 2 s"
     rates: np.ndarray = field(default_factory=lambda: np.zeros(0))  # f(t, x): zero at an equilibrium
+    moving: tuple[str, ...] = ()  # positions held in a steady motion (blocks.steady_motion): not at rest
 
 
 @dataclass
@@ -120,14 +121,28 @@ def operating_point(circuit, overrides: dict[str, float], settings, at: float | 
         result = circuit.simulate(overrides, settings.with_(t_end=t))
         x = np.array(result.states[-1], dtype=float)
         how = f"the state at t = {t:g} s of the run"
+    moving: tuple[str, ...] = ()
     if equilibrium:  # status 4: at rest but for states that act on nothing and integrate (see integrating())
         found = circuit.equilibrium(overrides, guess=x, t=t)
-        if found.status not in (0, 4):
-            raise SimulationError(f"{circuit.flat.file}: no equilibrium found from {how}: "
-                                  f"{EQUILIBRIUM_FAILURE.get(found.status, 'status ' + str(found.status))}")
-        x = np.array(found.states, dtype=float)
-        how = f"the equilibrium with the inputs held at their values at t = {t:g} s, found from {how}"
-    return OperatingPoint(t, x, dict(overrides), how, _rates(circuit, t, x, overrides))
+        if found.status in (0, 4):
+            x = np.array(found.states, dtype=float)
+            how = f"the equilibrium with the inputs held at their values at t = {t:g} s, found from {how}"
+        else:  # no rest point: a steady motion of positions that act on the circuit (a cylinder's stroke)?
+            from blocks.steady_motion import steady_motion
+
+            speeds = np.array([slot.kind == "speed" for slot in circuit.structure.states for _ in range(slot.size)])
+            motion = steady_motion(lambda state: _rates(circuit, t, state, overrides), x, _state_nominal(circuit),
+                                   speeds)
+            if motion is None:
+                raise SimulationError(f"{circuit.flat.file}: no equilibrium found from {how}: "
+                                      f"{EQUILIBRIUM_FAILURE.get(found.status, 'status ' + str(found.status))}")
+            x, held = motion
+            names = _state_names(circuit)
+            moving = tuple(names[j] for j in held)
+            held_at = "its value there" if len(moving) == 1 else "their values there"
+            how = (f"the steady motion with the inputs held at their values at t = {t:g} s ({', '.join(moving)} "
+                   f"moving, held at {held_at} for the others' rest), found from {how}")
+    return OperatingPoint(t, x, dict(overrides), how, _rates(circuit, t, x, overrides), moving)
 
 
 EQUILIBRIUM_FAILURE = {
@@ -347,10 +362,11 @@ def integrating(model: LinearModel, point: OperatingPoint) -> list[str]:
 
 
 def at_rest(model: LinearModel, point: OperatingPoint) -> bool:
-    """Whether every state is at rest at the point, those that only integrate (:func:`integrating`) apart:
+    """Whether every state is at rest at the point, those that only integrate (:func:`integrating`) and the
+    positions of a steady motion (``point.moving``) apart:
     |dx_j/dt| <= REST * s_j * max(1/s, |A_jj|), the rate that an offset of REST * s_j from rest makes (an
     equilibrium found to Newton's tolerance leaves a stiff node, 3e8/s, a rate of a few Pa/s)."""
-    moving = integrating(model, point)
+    moving = set(integrating(model, point)) | set(point.moving)
     resting = [j for j, name in enumerate(model.state_names) if name not in moving]
     if not resting:
         return True

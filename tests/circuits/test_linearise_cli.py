@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import csv
+import re
 import math
 from pathlib import Path
 
@@ -130,3 +131,36 @@ def test_an_unstable_point_is_said_to_be_one(tmp_path, capsys):
            "point" in out
     code, out, err = run(capsys, NETLISTS / "linear_rest.yaml", "-q", "--equilibrium")
     assert code == 0 and "UNSTABLE" not in out
+
+
+def test_a_cylinder_in_steady_motion_is_linearised_about_that_motion(capsys):
+    """Found by a user review: a cylinder's stroke sets its chambers' volumes, so it is no state that "acts
+    on nothing", and --equilibrium found no rest point. The steady motion (blocks/steady_motion.py) holds
+    the stroke and solves the rest: v = Q/A_A, p_B = A_B*Q/(A_A*G), p_A = (b*v + p_B*A_B)/A_A, and their
+    gains per l/min; the stroke integrates Q."""
+    code, out, err = run(capsys, NETLISTS / "linear_motion.yaml", "-q", "--equilibrium", "--input", "Q [l/min]")
+    assert code == 0, err
+    assert "the steady motion with the inputs held at their values at t = 1 s (cyl.x moving" in out
+    a_a, a_b, g, b, per = 20e-4, 10e-4, 2e-10, 2000.0, 1e-3 / 60  # per: one l/min in m^3/s
+    gains = {name: float(value) for name, value in
+             re.findall(r"steady-state gain (\w+)/Q: ([-0-9.e+]+) ", out)}
+    printed = 5e-6  # the gains are printed to 6 significant digits
+    assert gains["v"] == pytest.approx(per / a_a * 1e3, rel=printed)                          # mm/s per l/min
+    assert gains["pB"] == pytest.approx(a_b * per / (a_a * g) / 1e5, rel=printed)             # bar per l/min
+    assert gains["pA"] == pytest.approx((b * per / a_a + a_b * a_b * per / (a_a * g)) / a_a / 1e5, rel=printed)
+    assert "steady-state gain x/Q: none (it integrates the input)" in out
+    q = 10 * per
+    assert f"v = {q / a_a * 1e3:.6g} mm/s" in out and f"pB = {a_b * q / (a_a * g) / 1e5:.6g} bar" in out
+
+
+def test_a_servo_tracking_a_ramp_is_a_steady_motion_once_its_error_has_settled(capsys):
+    """The drive line cruising: the reference and the bridge both move (held), the rest is solved for rest.
+    At 2 s the error has settled (the two positions' pulls on the spool cancel to 3e-5), at 0.6 s it is
+    still settling (to 0.07): that point is said to be a snapshot."""
+    drive = Path(__file__).resolve().parents[2] / "netlists" / "examples" / "drive_line.yaml"
+    code, out, err = run(capsys, drive, "-q", "--equilibrium", "--at", "2")
+    assert code == 0, err
+    assert "(x_ref.x, angle.theta moving, held at their values there" in out and "snapshot" not in out
+    code, out, err = run(capsys, drive, "-q", "--equilibrium", "--at", "0.6")
+    assert code == 0, err
+    assert "# a snapshot: as x_ref.x, angle.theta move, the others' rest changes" in out
