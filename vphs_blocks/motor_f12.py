@@ -3,6 +3,7 @@
 import math
 
 from blocks.block import Block, Param, fluid_params, hydraulic, rotational
+from blocks.library.hydraulic.displacement import chamber_fill, vapour_pressure_param
 from blocks.library.hydraulic.flow import turbulent_flow
 from blocks.registry import register
 
@@ -14,11 +15,13 @@ class ParkerMotor(Block):
     Flows [m^3/s] (section 2.5, fig. 2.26: leakage as orifices, so it depends on inlet and back pressure):
         q_lm = Cd*A_lm*sqrt(2/rho) * (p_a - p_b)/((p_a - p_b)^2 + dp_t^2)^(1/4)        internal leakage a -> b
         q_da = Cd*A_ld*sqrt(2/rho) * (p_a - p_d)/(...)^(1/4),  q_db likewise from b    drains to port drain
-        delivered: q_a = -(D*w + q_lm + q_da),  q_b = D*w + q_lm - q_db,  q_drain = q_da + q_db
+        delivered: q_a = -(f*D*w + q_lm + q_da),  q_b = f*D*w + q_lm - q_db,  q_drain = q_da + q_db
+        f = smooth_step(p_in, p_vap - dp_f, dp_f): the chambers' fill from p_in = p_a (w >= 0), p_b (w < 0),
+        1 at and above the vapour pressure p_vap, 0 from dp_f = 0.005 bar below it (as hydraulic_motor)
     Torque on the shaft [N*m] (section 2.6, eq. 2.27 read as F_M = (1 - eta_hm)*dp*D_M/(2*pi), D_M per rev,
     i.e. (1 - eta_hm)*D*dp with D per radian; Coulomb, opposing the motion, plus the optional viscous term
     of fig. 2.31):
-        tau_h = D*(p_a - p_b)
+        tau_h = f*D*(p_a - p_b)
         tau = tau_h - (1 - eta_hm)*|tau_h|*tanh(w/w_w) - B_v*w
     Inertia: J_m is added to the shaft net.
     Volumetric efficiency (eq. 2.26, D_M per rev = 2*pi*D): eta_v = w*D_M/(2*pi*Q_M) = D*w/(-q_a).
@@ -53,7 +56,7 @@ class ParkerMotor(Block):
         Param("B_v", "N*m*s/rad", 0.0, 0.0, 1e6, "viscous friction coefficient on the shaft"),
         Param("Cd", "1", 0.7, 0.01, 1.0, "discharge coefficient of the leakage orifices"),
         Param("dp_t", "Pa", 1e5, 1.0, 1e7, "regularisation width of the leakage's square-root law (16 % under it at dp = dp_t)"),
-    ) + fluid_params()[:1]
+    ) + fluid_params()[:1] + (vapour_pressure_param(),)
     presets = {
         "F12-030": {"D": "30 cm^3/rev", "A_lm": "0.13 mm^2", "A_ld": "1e-4 mm^2", "J_m": "1.7e-3 kg*m^2",
                     "eta_hm": 0.9},
@@ -64,12 +67,13 @@ class ParkerMotor(Block):
     }
 
     @staticmethod
-    def derivatives(a, b, drain, shaft, D, A_lm, A_ld, J_m, eta_hm, w_w, B_v, Cd, dp_t, rho):
+    def derivatives(a, b, drain, shaft, D, A_lm, A_ld, J_m, eta_hm, w_w, B_v, Cd, dp_t, rho, p_vap):
         dp = a - b
+        f = chamber_fill(a, b, shaft, p_vap)
         q_lm = turbulent_flow(dp, A_lm, Cd, rho, dp_t)
         q_da = turbulent_flow(a - drain, A_ld, Cd, rho, dp_t)
         q_db = turbulent_flow(b - drain, A_ld, Cd, rho, dp_t)
-        q_m = D * shaft
-        tau_h = D * dp
+        q_m = f * D * shaft
+        tau_h = f * D * dp
         tau = tau_h - (1.0 - eta_hm) * abs(tau_h) * math.tanh(shaft / w_w) - B_v * shaft
         return -(q_m + q_lm + q_da), q_m + q_lm - q_db, q_da + q_db, tau, J_m

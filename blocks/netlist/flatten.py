@@ -36,6 +36,13 @@ FLUID_BOUNDS = {
     "air": Param("air", "1", None, 0.0, 0.5, "entrained air, volume fraction at atmospheric pressure"),
     "air_index": Param("air_index", "1", None, 1.0, 1.4, "polytropic index of the entrained air"),
 }
+# Derived from the top-level fluid, not written: the pressure below which the model turns oil into vapour
+# (a displacement machine's chambers fill with vapour below it: blocks.library.hydraulic.displacement). It is
+# the vapour pressure with the cavitation law on, and never (NO_VAPOUR) with `cavitation: false`, where the
+# oil is the liquid at every pressure, as in the thesis's Simulink model.
+CAVITATION_PRESSURE = Param("cavitation_pressure", "Pa", None, None, 1e6,
+                            "below it oil turns to vapour: the vapour pressure, or never with cavitation: false")
+NO_VAPOUR = -1e30  # Pa: a pressure no circuit reaches
 TOP_LEVEL_FLUID = (("vapour_pressure", "the vapour pressure"), ("cavitation", "fluid cavitation"),
                    ("air", "the entrained air"), ("air_index", "the entrained air's index"))
 NET_BOUNDS = {
@@ -231,6 +238,11 @@ class _Builder:
             self.table.add(make_entry(name, getattr(netlist.fluid, key), FLUID_BOUNDS[key].unit, {}, located,
                                       ("fluid", key), FLUID_BOUNDS[key]))
             names[f"fluid_{key}"] = name
+        if parent is None:
+            raw = "fluid_vapour_pressure" if netlist.fluid.cavitation else NO_VAPOUR
+            self.table.add(make_entry("fluid.cavitation_pressure", raw, "Pa", names, located,
+                                      ("fluid", "cavitation"), CAVITATION_PRESSURE))
+            names["fluid_cavitation_pressure"] = "fluid.cavitation_pressure"
         return names
 
     def add_netlist(self, netlist: spec.Netlist, located: Located, prefix: str, overrides: dict,

@@ -40,6 +40,7 @@ from blocks.registry import get
 
 RHO = 850.0
 BAR = 1e5
+P_VAP = -0.9 * BAR  # the fluid's vapour pressure (gauge), for the displacement machines
 
 
 def named(cls, values) -> dict[str, float]:
@@ -213,7 +214,7 @@ def test_a_full_open_pressure_at_or_below_the_setting_is_refused():
     assert "must be above p_crack = 0.5 bar" in CheckValve.check_values({"p_crack": 0.5 * BAR, "p_open": 0.2 * BAR})
 
 # ---------------------------------------------------------------- motor
-MOTOR = dict(D=2 * 30e-6 / (2 * math.pi), J_m=0.0068, eta_hm=1.0, w_w=0.1)
+MOTOR = dict(D=2 * 30e-6 / (2 * math.pi), J_m=0.0068, eta_hm=1.0, w_w=0.1, p_vap=P_VAP)
 
 
 def test_motor_flows_and_torque():
@@ -257,7 +258,6 @@ def test_motor_friction_is_the_lost_fraction_of_hydraulic_torque_opposing_motion
 
 
 # ---------------------------------------------------------------- pumps
-P_VAP = -0.9 * BAR  # the fluid's vapour pressure (gauge)
 PUMP = dict(D=28e-6 / (2 * math.pi), J_p=0.002, eta_hm=1.0, w_w=0.1, p_vap=P_VAP)  # 28 cm^3/rev
 
 
@@ -355,6 +355,21 @@ def test_pump_chambers_fill_only_from_liquid(below, fill, backwards):
     assert d["tau_shaft"] == pytest.approx(-fill * PUMP["D"] * (pp - ps), rel=1e-12, abs=1e-15)
     v = vpump(ps, pp, w, 0.4, G)
     assert v["q_p"] == pytest.approx(fill * 0.4 * VPUMP["D_max"] * w - G * (pp - ps), rel=1e-12, abs=1e-18)
+
+
+@pytest.mark.parametrize("below, fill", [(0.0, 1.0), (FILL_BAND / 2, 0.5), (FILL_BAND, 0.0)])
+@pytest.mark.parametrize("backwards", [False, True])
+def test_an_overrunning_motor_brakes_only_on_the_oil_its_inlet_holds(below, fill, backwards):
+    """A load overrunning the motor (w > 0 with p_b > p_a: braking) draws its inlet a down; below the vapour
+    pressure the chambers take in vapour, and the flow through it and the braking torque scale with the
+    fill, as for the pumps (backwards: the inlet is b). The leakage does not."""
+    G, w, high = 1e-12, 80.0, 150 * BAR
+    p_in = P_VAP - below
+    pa, pb, w = (high, p_in, -w) if backwards else (p_in, high, w)
+    d = named(HydraulicMotor, HydraulicMotor.derivatives(a=pa, b=pb, shaft=w, G_leak=G, **MOTOR))
+    assert d["q_b"] == pytest.approx(fill * MOTOR["D"] * w + G * (pa - pb), rel=1e-12, abs=1e-18)
+    assert d["tau_shaft"] == pytest.approx(fill * MOTOR["D"] * (pa - pb), rel=1e-12, abs=1e-15)
+    assert d["tau_shaft"] * w <= 0.0  # braking, or nothing
 
 
 @pytest.mark.parametrize("eps_max", [1.0, 0.6])

@@ -39,6 +39,7 @@ NAMES = list(TYPES)
 # The fluid a component reads when the netlist's `fluid:` section is left at its defaults.
 FLUID = {key: quantity(getattr(Fluid(), key), unit) for key, unit in
          (("rho", "kg/m^3"), ("nu", "m^2/s"), ("beta", "Pa"), ("vapour_pressure", "Pa"))}
+FLUID["cavitation_pressure"] = FLUID["vapour_pressure"]  # derived: with the cavitation law on (the default)
 
 # Parameter values for blocks whose required parameters need more than "inside the bounds" to be a valid,
 # non-degenerate operating point (their check_values asks for it, or the generic value makes the block

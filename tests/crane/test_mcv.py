@@ -29,7 +29,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 
 from blocks.circuit import Circuit
-from blocks.library.hydraulic.cavitation import CAVITY_COMPLIANCE, CAVITY_ONSET
+from blocks.library.hydraulic.displacement import FILL_BAND
 from blocks.registry import get
 from blocks.units import quantity
 from vphs_blocks.mcv_vaa import MotionControlValveVAA as VAA
@@ -471,20 +471,22 @@ def test_vbso_datasheet_curves():
 # ---------------------------------------------------------------- the demonstration of section 2.4.1
 def test_demo_without_mcv_cavitates():
     """The inlet closes (1.5 to 2 s) while the inertia keeps the motor turning: it draws line A down to the
-    vapour pressure and on into a vapour cavity (fluid cavitation), no braking pressure builds, and the motor
-    outruns its inlet, stopped only by the load torque (the thesis's uneven deceleration, section 2.4.1)."""
+    vapour pressure, where its chambers fill with vapour (a cavity under a cm^3 in the line: the fill band of
+    blocks/library/hydraulic/displacement.py), no braking pressure builds, and the motor outruns its inlet,
+    stopped only by the load torque (the thesis's uneven deceleration, section 2.4.1)."""
     r = circuit("mcv_demo_without").simulate()
     (warning,) = r.warnings
     assert "net 'A' reached the vapour pressure -1 bar" in warning and "vapour cavity" in warning
-    # the cavity is about what the motor swept after the inlet shut, less what came in: under the line's 0.5 l
-    assert r["pA"].min() > -1 * BAR - CAVITY_ONSET - 0.5e-3 / CAVITY_COMPLIANCE
+    assert r["pA"].min() >= -1 * BAR - FILL_BAND
     w, t = r["speed"], r.t
     at_close = w[np.searchsorted(t, 2.0)]
     assert at_close > 0.5 * w.max()  # still over half speed when the inlet is shut
-    # coasting against the load torque alone (and the little outlet pressure): T_load/J within 20 %
+    # coasting against the load torque alone: dw/dt = -T_load/(J_load + J_m), the outlet pressure's torque
+    # (tens of Pa by then) under 1e-5 of it. (Before the chambers' fill, the motor pumped its line's vapour
+    # as oil and kept braking on it: within 20 % only.)
     coast = (t > 2.2) & (t < 2.8)
     decel = -np.polyfit(t[coast], w[coast], 1)[0]
-    assert decel == pytest.approx(20.0 / (0.2 + 0.0018), rel=0.2)
+    assert decel == pytest.approx(20.0 / (0.2 + 0.0018), rel=1e-5)
 
 
 def test_demo_with_mcv_decelerates_evenly_without_cavitation():
@@ -494,11 +496,10 @@ def test_demo_with_mcv_decelerates_evenly_without_cavitation():
     for name in ("pV1", "pC1", "pC2", "pV2", "pt"):  # pt is the valve's own node, which the run does not check
         assert r[name].min() >= -1 * BAR, name
     w, w0, t = r["speed"], without["speed"], r.t
-    assert w.max() > 100 and abs(w[-1]) < 0.01 * w.max() and abs(w0[-1]) < 0.01 * w0.max()  # both ran and stopped
+    assert w.max() > 100 and abs(w[-1]) < 0.01 * w.max() and w0.max() > 100  # both ran; with the valve, stopped
     # the valve holds the motor to its inlet: stopped as the inlet shuts, where without it the motor coasts on
     stopped = t[(t > 1.5) & (np.abs(w) < 0.01 * w.max())][0]
-    stopped0 = without.t[(without.t > 1.5) & (np.abs(w0) < 0.01 * w0.max())][0]
-    assert stopped < 2.05 and stopped0 > 2.5, (stopped, stopped0)
+    assert stopped < 2.05 and np.all(np.abs(w0[(without.t > 1.5) & (without.t <= 2.5)]) > 0.01 * w0.max()), stopped
     assert -w[t > 1.5].min() < 0.05 * w.max()  # little backward motion after the stop
     # the relief in the return line closes as the inlet closes, and opened only under inlet pressure
     assert r["u2"].max() > 0.05 and r["u2"][-1] < 1e-3 and r["u1"].max() < 1e-6

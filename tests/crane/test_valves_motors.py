@@ -45,9 +45,10 @@ RPM = 2.0 * math.pi / 60.0
 
 
 def preset(cls, name: str) -> dict[str, float]:
-    """A preset's values in SI, the block's defaults filled in (fluid rho = 850 kg/m^3)."""
+    """A preset's values in SI, the block's defaults filled in (fluid rho = 850 kg/m^3, vapour pressure -1 bar)."""
     values = {p.name: p.default for p in cls.params if p.default is not None}
     values["rho"] = RHO
+    values["p_vap"] = -1e5
     for key, raw in cls.presets[name].items():
         values[key] = quantity(raw, cls.param(key).unit)
     return values

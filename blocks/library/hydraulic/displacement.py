@@ -1,15 +1,30 @@
-"""The law of a displacement pump, shared by the fixed and the variable pump (numba-compiled, callable
-from Python too). Not a block."""
+"""The laws of displacement machines shared by the pumps and the motors (numba-compiled, callable from
+Python too). Not a block."""
 
 import math
 
 from numba import njit
 
+from blocks.block import Param
 from blocks.library.hydraulic.cavitation import CAVITY_ONSET
 from blocks.library.hydraulic.flow import smooth_step
 
-
 FILL_BAND = 0.1 * CAVITY_ONSET  # Pa: below p_vap, the chambers' fill falls from 1 to 0 over this band
+
+
+def vapour_pressure_param() -> Param:
+    """The pressure below which a machine's chambers fill with vapour: the fluid's vapour pressure, or never
+    (-1e30 Pa) with the netlist's ``fluid: {cavitation: false}`` (the liquid at every pressure)."""
+    return Param("p_vap", "Pa", None, None, 1e6, "vapour pressure (gauge): chambers filling below it take in vapour "
+                 "(never with fluid cavitation: false)", fluid="cavitation_pressure")
+
+
+@njit(cache=True)
+def chamber_fill(p_forward, p_backward, w, p_vap):
+    """The liquid fill f of a machine's chambers [1]: they fill from the port at p_forward when w >= 0, from
+    the one at p_backward when w < 0; f = smooth_step(p_in, p_vap - FILL_BAND, FILL_BAND), 1 at and above
+    the vapour pressure p_vap, 0 from FILL_BAND (0.005 bar) below it (see pump_flow_and_torque)."""
+    return smooth_step(p_forward if w >= 0.0 else p_backward, p_vap - FILL_BAND, FILL_BAND)
 
 
 @njit(cache=True)
@@ -32,7 +47,7 @@ def pump_flow_and_torque(D, p_s, p_p, w, G_leak, eta_hm, w_w, p_vap):
     which a net's liquid gives way to its vapour cavity (blocks.library.hydraulic.cavitation), where that
     cavity is still under 0.5 cm^3: the oil a pump draws from a closed net is the net's own, not a cavity's.
     """
-    f = smooth_step(p_s if w >= 0.0 else p_p, p_vap - FILL_BAND, FILL_BAND)
+    f = chamber_fill(p_s, p_p, w, p_vap)
     dp = p_p - p_s
     q = f * D * w - G_leak * dp
     tau_h = -f * D * dp

@@ -3,6 +3,7 @@
 import math
 
 from blocks.block import Block, Param, hydraulic, rotational
+from blocks.library.hydraulic.displacement import chamber_fill, vapour_pressure_param
 from blocks.registry import register
 
 
@@ -10,9 +11,10 @@ from blocks.registry import register
 class HydraulicMotor(Block):
     """Fixed-displacement hydraulic motor with laminar internal leakage; stores its own inertia.
 
-    q_m = D*w + G_leak*(p_a - p_b)          flow through the motor from a to b [m^3/s]
+    f = smooth_step(p_in, p_vap - dp_f, dp_f)   fill of the chambers from p_in = p_a (w >= 0), p_b (w < 0)
+    q_m = f*D*w + G_leak*(p_a - p_b)        flow through the motor from a to b [m^3/s]
     q_a = -q_m,  q_b = +q_m
-    tau_h = D*(p_a - p_b)                   hydraulic torque [N*m]
+    tau_h = f*D*(p_a - p_b)                 hydraulic torque [N*m]
     tau = tau_h - (1 - eta_hm)*|tau_h|*tanh(w/w_w)   torque on the shaft [N*m]
     J_shaft = J_m                           inertia added to the shaft net [kg*m^2]
 
@@ -26,6 +28,12 @@ class HydraulicMotor(Block):
     (1 - eta_hm)*|tau_h*w| (|w| >> w_w), and the leakage dissipates G_leak*(p_a - p_b)^2. The friction is
     (1 - eta_hm)*|tau_h| in pumping too (an overrunning load, tau_h*w < 0), so the efficiency from shaft
     to oil is then 1/(2 - eta_hm) (0.909 for eta_hm = 0.9), not eta_hm.
+
+    Filling: f = 1 while the port the chambers fill from is at or above the fluid's vapour pressure p_vap
+    (the equations are then those without f, bit for bit). Below it, over dp_f = 0.005 bar, the chambers
+    take in vapour: an overrunning load that draws its motor's inlet line down to the vapour pressure
+    (a meter-out circuit braking with too little make-up oil) gets only the braking torque of the oil the
+    line lets in, and runs away as on the machine, instead of braking on oil the line does not hold.
     """
 
     ports = (
@@ -39,12 +47,14 @@ class HydraulicMotor(Block):
         Param("J_m", "kg*m^2", None, 0.0, 1e6, "inertia of the rotating group, added to the shaft net"),
         Param("eta_hm", "1", 1.0, 0.0, 1.0, "hydro-mechanical efficiency: friction (1 - eta_hm)*|tau_h|"),
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
+        vapour_pressure_param(),
     )
 
     @staticmethod
-    def derivatives(a, b, shaft, D, G_leak, J_m, eta_hm, w_w):
+    def derivatives(a, b, shaft, D, G_leak, J_m, eta_hm, w_w, p_vap):
         dp = a - b
-        q = D * shaft + G_leak * dp
-        tau_h = D * dp
+        f = chamber_fill(a, b, shaft, p_vap)
+        q = f * D * shaft + G_leak * dp
+        tau_h = f * D * dp
         tau = tau_h - (1.0 - eta_hm) * abs(tau_h) * math.tanh(shaft / w_w)
         return -q, q, tau, J_m

@@ -1,7 +1,7 @@
 """Fixed-displacement hydraulic pump."""
 
 from blocks.block import Block, Param, hydraulic, rotational
-from blocks.library.hydraulic.displacement import pump_flow_and_torque
+from blocks.library.hydraulic.displacement import pump_flow_and_torque, vapour_pressure_param
 from blocks.registry import register
 
 
@@ -52,7 +52,7 @@ class Pump(Block):
         Param("J_p", "kg*m^2", None, 0.0, 1e6, "inertia of the rotating group, added to the shaft net"),
         Param("eta_hm", "1", 1.0, 0.5, 1.0, "hydro-mechanical efficiency: shaft power D*dp*w/eta_hm when pumping"),
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
-        Param("p_vap", "Pa", None, -1.01325e5, 1e6, "vapour pressure (gauge): chambers filling below it take in vapour", fluid="vapour_pressure"),
+        vapour_pressure_param(),
     )
 
     @staticmethod

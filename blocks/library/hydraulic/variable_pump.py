@@ -1,7 +1,7 @@
 """Variable-displacement pump with a pressure compensator."""
 
 from blocks.block import Block, Param, State, hydraulic, rotational, signal_out
-from blocks.library.hydraulic.displacement import pump_flow_and_torque
+from blocks.library.hydraulic.displacement import pump_flow_and_torque, vapour_pressure_param
 from blocks.library.hydraulic.flow import smooth_step
 from blocks.library.signal.linear import clamp
 from blocks.registry import register
@@ -56,7 +56,7 @@ class VariablePump(Block):
         Param("eta_hm", "1", 1.0, 0.5, 1.0,
               "hydro-mechanical efficiency: shaft power e*D_max*dp*w/eta_hm when pumping"),
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
-        Param("p_vap", "Pa", None, -1.01325e5, 1e6, "vapour pressure (gauge): chambers filling below it take in vapour", fluid="vapour_pressure"),
+        vapour_pressure_param(),
     )
     states = (State("eps", "1", 1.0, 1.0, "displacement fraction of the stroking mechanism (1 = full stroke)"),)
 
