@@ -325,8 +325,9 @@ def _check_plot_signals(args, logged: list[str]) -> None:
         if name not in logged:
             raise ArgumentError(f"vphs: {option} '{name}': not a logged signal of {args.netlist} "
                                 f"(logged: {', '.join(logged)})")
-    if len(set(args.y)) < len(args.y):
-        raise ArgumentError("vphs: --y: a signal is named twice")
+    twice = _named_twice(args.y)
+    if twice:
+        raise ArgumentError(f"vphs: --y '{twice}': named twice")
     if args.x and args.y == [args.x]:
         raise ArgumentError(f"vphs: --x and --y name only '{args.x}': nothing to plot against it")
 
@@ -548,8 +549,9 @@ def cmd_linearise(args) -> int:
         if name not in logged:
             raise ArgumentError(f"vphs: --output '{name}': not a logged signal of {args.netlist} "
                                 f"(logged: {', '.join(logged)})")
-    if len(set(args.output)) < len(args.output):
-        raise ArgumentError("vphs: --output: a signal is named twice")
+    twice = _named_twice(args.output)
+    if twice:
+        raise ArgumentError(f"vphs: --output '{twice}': named twice")
     at = None
     if args.at is not None:
         from blocks.units import UnitError, quantity
@@ -560,6 +562,9 @@ def cmd_linearise(args) -> int:
             raise ArgumentError(f"vphs: --at '{args.at}': {exc}") from None
         if not math.isfinite(at):
             raise ArgumentError(f"vphs: --at '{args.at}': not a finite time")
+        if at < circuit.settings.t_start:
+            raise ArgumentError(f"vphs: --at '{args.at}': before the simulation's start, t_start = "
+                                f"{circuit.settings.t_start:g} s in {args.netlist}")
         problem = circuit.settings.with_(t_end=at).problem() if at > circuit.settings.t_start else None
         if problem:  # the run to the operating point is a run like `vphs run --t-end`'s
             raise ArgumentError(f"vphs: --at '{args.at}': {problem[1]}")
@@ -609,6 +614,16 @@ def cmd_linearise(args) -> int:
         if not args.quiet:
             print(f"vphs: wrote {', '.join(str(path) for path, _ in writes)}", file=sys.stderr)
     return 0
+
+
+def _named_twice(names: list[str]) -> str | None:
+    """The first name given twice, or None."""
+    seen = set()
+    for name in names:
+        if name in seen:
+            return name
+        seen.add(name)
+    return None
 
 
 MAX_RESPONSE_POINTS = 100_000  # frequencies of a response: a Bode plot needs hundreds; 1e9 would fill the memory

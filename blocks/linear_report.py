@@ -140,7 +140,8 @@ def bode_plot(path, frequencies, shown, model: LinearModel, out_units, in_units,
             if not reached[a, b]:
                 continue
             label = f"{out}/{inp} [{ratio_unit(ou, iu)}]"
-            mag.loglog(frequencies, np.abs(shown[:, a, b]), label=label)
+            magnitude = np.abs(shown[:, a, b])
+            mag.loglog(frequencies, np.where(magnitude > 0.0, magnitude, np.nan), label=label)  # 0: no point
             phase.semilogx(frequencies, phases[:, a, b], label=label)
     for mode in found:
         if mode.oscillating and mode.damping < 0.7 and frequencies[0] <= mode.natural_frequency <= frequencies[-1]:
@@ -151,7 +152,10 @@ def bode_plot(path, frequencies, shown, model: LinearModel, out_units, in_units,
     phase.set_xlabel("f [Hz]")
     for ax in (mag, phase):
         ax.grid(True, which="both", alpha=0.3)
-    mag.legend(loc="best", fontsize="small")
+    if reached.any():
+        mag.legend(loc="best", fontsize="small")
+    else:
+        mag.text(0.5, 0.5, "no input reaches an output here", transform=mag.transAxes, ha="center")
     fig.suptitle(f"{model.point.how}"[:110], fontsize="medium")
     try:
         fig.savefig(path, dpi=110)

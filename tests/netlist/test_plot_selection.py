@@ -55,7 +55,7 @@ def test_without_x_and_y_every_signal_against_time(tmp_path, capsys, drawn, x):
     (["--y", "so"], "--y chooses what --plot draws: give --plot FILE too"),
     (["--plot", "{tmp}/r.png", "--y", "sO"], "--y 'sO': not a logged signal of"),
     (["--plot", "{tmp}/r.png", "--x", "time"], "--x 'time': not a logged signal of"),
-    (["--plot", "{tmp}/r.png", "--y", "so", "--y", "so"], "--y: a signal is named twice"),
+    (["--plot", "{tmp}/r.png", "--y", "so", "--y", "so"], "--y 'so': named twice"),
     (["--plot", "{tmp}/r.png", "--x", "so", "--y", "so"], "--x and --y name only 'so': nothing to plot against it"),
 ])
 def test_refusals(tmp_path, capsys, args, message):
