@@ -194,6 +194,9 @@ def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] |
         if name not in entries:
             raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
                                 + _unknown_parameter_hint(name, entries, setting_options or {}))
+        if name == "fluid.cavitation_pressure":
+            raise ArgumentError(f"vphs: --set '{pair}': {name} follows fluid.vapour_pressure (and the netlist's "
+                                f"fluid: {{cavitation:}}); set fluid.vapour_pressure")
         entry = entries[name]
         try:  # value_si refuses an array, a unit the netlist contradicts and a value that is not finite
             overrides[name] = circuit.flat.parameters.value_si(name, raw)
@@ -216,7 +219,9 @@ def _unknown_parameter_hint(name: str, entries, setting_options: dict[str, str])
         option = setting_options.get(setting)
         return (f" (the simulation's {setting} is set with {option})" if option else
                 f" ({setting} is a simulation setting: change it in the netlist's simulation: section)")
-    hint = nearest(name, entries)
+    if name == "fluid.cavitation":
+        return " (fluid cavitation is a switch of the netlist's fluid: section, not a parameter)"
+    hint = [n for n in nearest(name, entries) if n != "fluid.cavitation_pressure"]
     return f" (did you mean {', '.join(hint)}?)" if hint else ""
 
 
@@ -230,15 +235,20 @@ def check_output_paths(csv_path: str | None, plot_path: str | None, plot_option:
 
     The folder is tried with a nameless temporary file: a folder that looks writable may still refuse
     new files (/proc, a read-only mount as root). ``plot_option`` is the option the plot was given with."""
-    if csv_path and plot_path and Path(csv_path).resolve() == Path(plot_path).resolve():
+    from blocks.result import special_target
+
+    for target in (csv_path, plot_path):
+        if target and os.path.islink(os.path.realpath(target)):
+            raise ArgumentError(f"vphs: output '{target}' is a symbolic link that leads back to itself")
+    if csv_path and plot_path and _real(csv_path) == _real(plot_path):
         raise ArgumentError(f"vphs: -o and {plot_option} name one file, '{csv_path}': the plot would replace the CSV")
     for target in (csv_path, plot_path):
-        if target and any(Path(target).resolve() == Path(source).resolve() for source in inputs if source):
+        if target and any(_real(target) == _real(source) for source in inputs if source):
             raise ArgumentError(f"vphs: output '{target}' is an input of this command; writing it would destroy it")
     for target in (csv_path, plot_path):
-        if not target:
+        if not target or special_target(target):  # a pipe, a device, a stream: written into, as it is
             continue
-        path = Path(target)
+        path = _real(target)  # a symbolic link is written through: the folder that counts is its target's
         if path.is_dir():
             raise ArgumentError(f"vphs: output '{target}' is a folder; give a file name")
         parent = next((p for p in [path.parent, *path.parent.parents] if p.exists()), Path("."))
@@ -252,6 +262,11 @@ def check_output_paths(csv_path: str | None, plot_path: str | None, plot_option:
                                 f"({exc.strerror or exc})") from None
     if plot_path and Path(plot_path).suffix.lower() not in PLOT_SUFFIXES:
         raise ArgumentError(f"vphs: {plot_option} '{plot_path}': give a file ending in {', '.join(PLOT_SUFFIXES)}")
+
+
+def _real(path) -> Path:
+    """The file a path names, its symbolic links followed (a loop left as it is, never an exception)."""
+    return Path(os.path.realpath(path))
 
 
 def _is_number(text: str) -> bool:
@@ -636,7 +651,7 @@ def _check_linearise_files(files: dict[str, str | None], netlist: str) -> None:
             raise ArgumentError(f"vphs: {option} '{path}': name a file")
     seen: dict[Path, str] = {}
     for option, path in given.items():
-        resolved = Path(path).resolve()
+        resolved = _real(path)
         if resolved in seen:
             raise ArgumentError(f"vphs: {seen[resolved]} and {option} name one file, '{path}'")
         seen[resolved] = option
@@ -706,8 +721,11 @@ def _linear_notes(model, point, found) -> list[str]:
         acting = model.A[np.ix_(rest, held)]
         drift = acting @ point.rates[held]  # how the others' rates change as the positions move (per s)
         terms = np.abs(acting) @ np.abs(point.rates[held])  # what cancels there when they move together
-        allowed = REST * model.state_nominal[rest] * np.maximum(1.0, np.abs(np.diag(model.A)[rest]))
-        if np.any((np.abs(drift) > allowed) & (np.abs(drift) > 1e-3 * terms)):
+        own = np.abs(np.diag(model.A)[rest])
+        # the rate offset the drift builds over the state's own relaxation time 1/|A_ii|, against rest's
+        offset = np.abs(drift) / np.where(own > 0.0, own, np.finfo(float).tiny)
+        allowed = REST * model.state_nominal[rest] * np.maximum(1.0, own)
+        if np.any((offset > allowed) & (np.abs(drift) > 1e-3 * terms)):
             notes.append(f"a snapshot: as {', '.join(point.moving)} move{'s' if len(held) == 1 else ''}, the "
                          f"others' rest changes (a spring, an end stop, a servo's error still settling): the "
                          f"point holds where {'it is' if len(held) == 1 else 'they are'}, not along the motion")

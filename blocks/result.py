@@ -138,15 +138,17 @@ def write_together(*files) -> None:
     before then leaves every target as it was: a results CSV and its plot are never of two different runs.
 
     A target that is a symbolic link is written through: the file it points to is replaced, the link kept.
-    A target that exists and is not a regular file (a named pipe, /dev/stdout, a device) cannot be replaced
-    by a rename without being destroyed: what was staged for it is copied into it instead."""
+    A target that exists and is not a regular file (a named pipe, a device), or that names one of the
+    process's own streams (/dev/stdout, /proc/self/fd/1, which the shell may have pointed at a file it
+    appends to), cannot be replaced by a rename without being destroyed: what was staged for it is
+    appended to it instead, after the renames (a pipe that no process reads is an error, not a wait)."""
     import signal
     import threading
 
     staged: list[tuple[Path, Path]] = []
     try:
         for path, write in files:
-            if _special(path):
+            if special_target(path):
                 folder = Path(tempfile.gettempdir())
             else:
                 path = Path(os.path.realpath(path))
@@ -157,7 +159,7 @@ def write_together(*files) -> None:
             staged.append((Path(tmp), path))
             write(Path(tmp))
             os.chmod(tmp, _umask_mode())  # mkstemp makes 0600; a result file is as readable as any other
-        if len({path.resolve() for _, path in staged}) < len(staged):
+        if len({os.path.realpath(path) for _, path in staged}) < len(staged):
             raise ValueError("write_together: two of the files are one path")
         interrupted = []
         held = threading.current_thread() is threading.main_thread()
@@ -165,33 +167,56 @@ def write_together(*files) -> None:
             previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(signum))
         try:
             for tmp, path in staged:
-                if _special(path):
-                    _copy_into(tmp, path)
-                else:
+                if not special_target(path):
                     os.replace(tmp, path)
         finally:
             if held:
                 signal.signal(signal.SIGINT, previous)
         if interrupted:
             raise KeyboardInterrupt
+        for tmp, path in staged:
+            if special_target(path):
+                _append_into(tmp, path)
     except BaseException:
         for tmp, _ in staged:
             tmp.unlink(missing_ok=True)
         raise
 
 
-def _special(path: Path) -> bool:
-    """Whether ``path`` (its links followed) exists and is neither a regular file nor a folder."""
-    return path.exists() and not path.is_file() and not path.is_dir()
+def special_target(path) -> bool:
+    """Whether an output ``path`` is written into rather than replaced: it exists (its links followed) and
+    names a device or one of the process's streams (under /dev or /proc: /dev/stdout may lead to a file the
+    shell appends to), or is neither a regular file nor a folder (a named pipe)."""
+    path = Path(path)
+    try:
+        if not path.exists():
+            return False
+        return str(path.absolute()).startswith(("/dev/", "/proc/")) or not (path.is_file() or path.is_dir())
+    except OSError:  # a symbolic link loop: not a special file (the caller's checks name the loop)
+        return False
 
 
-def _copy_into(staged: Path, target: Path) -> None:
-    """The staged file's bytes written into ``target`` (a pipe, a device), the staged file removed."""
+def _append_into(staged: Path, target: Path) -> None:
+    """The staged file's bytes appended to ``target`` (a pipe, a device, a stream), the staged file removed.
+    A pipe is opened without waiting: with no process reading it, that is an error (ENXIO)."""
+    import errno
     import shutil
+    import stat
 
     try:
-        with open(staged, "rb") as source, open(target, "wb") as sink:
+        flags = os.O_WRONLY | os.O_APPEND
+        if stat.S_ISFIFO(os.stat(target).st_mode):
+            flags |= os.O_NONBLOCK
+        try:
+            fd = os.open(target, flags)
+        except OSError as exc:
+            if exc.errno == errno.ENXIO:
+                raise OSError(errno.ENXIO, "no process reads this pipe", str(target)) from None
+            raise
+        os.set_blocking(fd, True)
+        with open(staged, "rb") as source, os.fdopen(fd, "wb") as sink:
             shutil.copyfileobj(source, sink)
     except OSError as exc:  # a full device: said of the target, not of a nameless write
         raise OSError(exc.errno, exc.strerror, str(target)) from None
-    staged.unlink()
+    finally:
+        staged.unlink(missing_ok=True)

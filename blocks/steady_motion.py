@@ -16,7 +16,9 @@ values and the others solved for rest:
 by MINPACK's hybrid Newton method (scipy.optimize.root) on the states divided by their nominal
 magnitudes s_i and the rates by the same s_i. The solution counts when each such rate is what an offset of
 REST * s_i from rest makes, |f_i| <= REST * s_i * max(1, |df_i/dx_i|) (the criterion of
-:func:`blocks.linearise.at_rest`).
+:func:`blocks.linearise.at_rest`), and the held positions still move there, |f_j| > REST * s_j (else it is
+a rest point that the compiled Newton method could not isolate, such as oil shut in two chambers, where
+the pressures' level is arbitrary: no steady motion is claimed).
 
 The rest stays at rest as the positions move when they act on it only through what vanishes at rest (a
 chamber's volume multiplies the net flow into it, zero in steady motion) or when their actions cancel as
@@ -82,6 +84,8 @@ def steady_motion(rhs, x_guess: np.ndarray, nominal: np.ndarray,
     f = rhs(x)
     if not np.all(np.isfinite(f)):
         return None
+    if np.any(np.abs(f[moving]) <= REST * nominal[moving]):
+        return None  # a rest point after all, which Newton could not isolate (oil shut in): not a motion
     for i in rest:
         h = 1e-6 * max(abs(x[i]), nominal[i])
         xp, xm = x.copy(), x.copy()

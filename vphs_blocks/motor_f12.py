@@ -21,7 +21,7 @@ class ParkerMotor(Block):
     Torque on the shaft [N*m] (section 2.6, eq. 2.27 read as F_M = (1 - eta_hm)*dp*D_M/(2*pi), D_M per rev,
     i.e. (1 - eta_hm)*D*dp with D per radian; Coulomb, opposing the motion, plus the optional viscous term
     of fig. 2.31):
-        tau_h = f*D*(p_a - p_b)
+        tau_h = D*(p_a - p_b)   (not scaled by f: vapour-filled chambers are flooded from the outlet)
         tau = tau_h - (1 - eta_hm)*|tau_h|*tanh(w/w_w) - B_v*w
     Inertia: J_m is added to the shaft net.
     Volumetric efficiency (eq. 2.26, D_M per rev = 2*pi*D): eta_v = w*D_M/(2*pi*Q_M) = D*w/(-q_a).
@@ -74,6 +74,6 @@ class ParkerMotor(Block):
         q_da = turbulent_flow(a - drain, A_ld, Cd, rho, dp_t)
         q_db = turbulent_flow(b - drain, A_ld, Cd, rho, dp_t)
         q_m = f * D * shaft
-        tau_h = f * D * dp
+        tau_h = D * dp
         tau = tau_h - (1.0 - eta_hm) * abs(tau_h) * math.tanh(shaft / w_w) - B_v * shaft
         return -(q_m + q_lm + q_da), q_m + q_lm - q_db, q_da + q_db, tau, J_m

@@ -34,6 +34,7 @@ class NetlistDoc:
         self.data = data
         self.folder = Path(folder)
         self.text = text  # the file's text, which the written file keeps where the document is unchanged
+        self.sections = set(data)  # the file's own top-level keys: an empty section added to them is not written
         self.notes: list[str] = []
         self.origin: dict[str, str] = {}  # a node added by move_port -> the net whose oil it holds
 
@@ -44,6 +45,7 @@ class NetlistDoc:
 
     def copy(self) -> "NetlistDoc":
         doc = NetlistDoc(copy.deepcopy(self.data), self.folder, self.text)
+        doc.sections = set(self.sections)
         doc.notes = list(self.notes)
         doc.origin = dict(self.origin)
         return doc
@@ -126,7 +128,8 @@ class NetlistDoc:
     # ---- writing ----------------------------------------------------------------------------------
     def write(self, path: str | Path, header: str = "") -> Path:
         path = Path(path).resolve()
-        write_yaml(path, _rebase(copy.deepcopy(self.data), self.folder, path.parent), self.text, header)
+        data = {key: value for key, value in self.data.items() if value != {} or key in self.sections}
+        write_yaml(path, _rebase(copy.deepcopy(data), self.folder, path.parent), self.text, header)
         return path
 
 
@@ -150,10 +153,12 @@ def write_yaml(path: Path, data: dict, original: str | None, header: str = "") -
     """``data`` to ``path`` atomically: over the text ``original`` where that can be done faithfully, else
     afresh; ``header`` (lines) above the rule."""
     text = dump_over(original, data) if original is not None else None
+    newline = "\r\n" if original is not None and text is not None and "\r\n" in original else "\n"
     if text is None:
         text = yaml.safe_dump(data, sort_keys=False, allow_unicode=True, width=110)
     if header:
-        text = "".join(f"# {line}\n" if line else "#\n" for line in header.splitlines()) + HEADER_RULE + "\n" + text
+        text = "".join(f"# {line}{newline}" if line else f"#{newline}" for line in header.splitlines()) \
+            + HEADER_RULE + newline + text
     atomic_write_text(path, text)
 
 

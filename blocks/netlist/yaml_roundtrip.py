@@ -11,11 +11,13 @@ composer gives each node:
   ``{type: orifice, params: {A: "1 mm^2"}}``, ``"59.1 bar"``); a mapping edited inside is edited entry by
   entry, so a changed component parameter changes only that parameter;
 - a new entry goes after the last line of its mapping, at its indentation (in a flow mapping: after its
-  last entry), in flow style; a new top-level section goes at the end of the file.
+  last entry), in flow style; a new top-level section likewise, after the document's last entry (before
+  any comment lines that end the file). New lines take the file's line ending (CRLF or LF).
 
-An edit this cannot place (an entry removed, a document that is not a mapping) gives None, and so does a
-text that the project's own reader (:func:`blocks.netlist.yaml_source.parse_yaml_text`) does not read back
-as exactly the edited document: the caller then writes the document afresh.
+An edit this cannot place (an entry removed, a document that is not a mapping, one with anchors and
+aliases, whose nodes stand in two places) gives None, and so does a text that the project's own reader
+(:func:`blocks.netlist.yaml_source.parse_yaml_text`) does not read back as exactly the edited document,
+keys in the same order: the caller then writes the document afresh.
 """
 
 from __future__ import annotations
@@ -37,21 +39,49 @@ def dump_over(original_text: str, data: dict) -> str | None:
         root = yaml.compose(original_text, Loader=yaml.SafeLoader)
     except yaml.YAMLError:
         return None
-    if not isinstance(root, yaml.MappingNode) or root.flow_style or not isinstance(data, dict):
+    if not isinstance(root, yaml.MappingNode) or root.flow_style or not isinstance(data, dict) or _aliased(root):
         return None
     edits: list[tuple[int, int, str]] = []
     try:
         _lay_mapping(root, data, original_text, edits, top=True)
     except _Unplaceable:
         return None
+    newline = "\r\n" if "\r\n" in original_text else "\n"
     text = original_text
-    for start, end, new in sorted(edits, key=lambda e: e[0], reverse=True):  # stable: equal starts keep order
-        text = text[:start] + new + text[end:]
+    # from the end of the text back; of edits at one place the last made first, so that they stand in the
+    # order they were made (an entry of a mapping before a section that follows it)
+    for _, (start, end, new) in sorted(enumerate(edits), key=lambda e: (e[1][0], e[0]), reverse=True):
+        text = text[:start] + new.replace("\n", newline) + text[end:]
     try:
-        same = parse_yaml_text(text, "<written>").data == data
+        read = parse_yaml_text(text, "<written>").data
     except NetlistError:
-        same = False
-    return text if same else None
+        return None
+    return text if read == data and _same_order(read, data) else None
+
+
+def _aliased(root) -> bool:
+    """Whether a node stands in two places (an anchor and its aliases): its position is one of them only."""
+    seen: set[int] = set()
+    stack = [root]
+    while stack:
+        node = stack.pop()
+        if id(node) in seen:
+            return True
+        seen.add(id(node))
+        if isinstance(node, yaml.MappingNode):
+            stack.extend(part for pair in node.value for part in pair)
+        elif isinstance(node, yaml.SequenceNode):
+            stack.extend(node.value)
+    return False
+
+
+def _same_order(a, b) -> bool:
+    """Whether two equal documents have their mappings' keys in the same order."""
+    if isinstance(a, dict):
+        return list(a) == list(b) and all(_same_order(a[k], b[k]) for k in a)
+    if isinstance(a, list):
+        return all(_same_order(x, y) for x, y in zip(a, b))
+    return True
 
 
 _CONSTRUCTOR = yaml.SafeLoader("")

@@ -343,8 +343,8 @@ FILL_BAND = 500.0  # Pa: below p_vap the chambers' fill falls from 1 to 0 over t
 @pytest.mark.parametrize("backwards", [False, True])
 def test_pump_chambers_fill_only_from_liquid(below, fill, backwards):
     """The side the chambers fill from (s turning forwards, p backwards) at p_vap - below: the displaced
-    flow and the oil's torque scale with the fill f = 1 - cubic_step(below, 0, 0.005 bar); the leakage
-    does not. The other side's pressure does not enter f."""
+    flow scales with the fill f = 1 - cubic_step(below, 0, 0.005 bar); the leakage does not, nor does the
+    oil's torque (vapour-filled chambers are flooded from the outlet and work against its full pressure)."""
     G, w, high = 2e-12, 150.0, 120 * BAR
     p_in = P_VAP - below
     ps, pp, w = (high, p_in, -w) if backwards else (p_in, high, w)
@@ -352,7 +352,7 @@ def test_pump_chambers_fill_only_from_liquid(below, fill, backwards):
     d = pump(ps, pp, w, G)
     assert d["q_p"] == pytest.approx(fill * PUMP["D"] * w - G * (pp - ps), rel=1e-12, abs=1e-18)
     assert d["q_s"] == -d["q_p"]
-    assert d["tau_shaft"] == pytest.approx(-fill * PUMP["D"] * (pp - ps), rel=1e-12, abs=1e-15)
+    assert d["tau_shaft"] == pytest.approx(-PUMP["D"] * (pp - ps), rel=1e-12)
     v = vpump(ps, pp, w, 0.4, G)
     assert v["q_p"] == pytest.approx(fill * 0.4 * VPUMP["D_max"] * w - G * (pp - ps), rel=1e-12, abs=1e-18)
 
@@ -361,15 +361,19 @@ def test_pump_chambers_fill_only_from_liquid(below, fill, backwards):
 @pytest.mark.parametrize("backwards", [False, True])
 def test_an_overrunning_motor_brakes_only_on_the_oil_its_inlet_holds(below, fill, backwards):
     """A load overrunning the motor (w > 0 with p_b > p_a: braking) draws its inlet a down; below the vapour
-    pressure the chambers take in vapour, and the flow through it and the braking torque scale with the
-    fill, as for the pumps (backwards: the inlet is b). The leakage does not."""
+    pressure the chambers take in vapour, and the flow through it scales with the fill, as for the pumps
+    (backwards: the inlet is b). The leakage does not, nor does the braking torque D*(p_a - p_b), which is
+    continuous through w = 0 where the side the chambers fill from changes."""
     G, w, high = 1e-12, 80.0, 150 * BAR
     p_in = P_VAP - below
     pa, pb, w = (high, p_in, -w) if backwards else (p_in, high, w)
     d = named(HydraulicMotor, HydraulicMotor.derivatives(a=pa, b=pb, shaft=w, G_leak=G, **MOTOR))
     assert d["q_b"] == pytest.approx(fill * MOTOR["D"] * w + G * (pa - pb), rel=1e-12, abs=1e-18)
-    assert d["tau_shaft"] == pytest.approx(fill * MOTOR["D"] * (pa - pb), rel=1e-12, abs=1e-15)
-    assert d["tau_shaft"] * w <= 0.0  # braking, or nothing
+    assert d["tau_shaft"] == pytest.approx(MOTOR["D"] * (pa - pb), rel=1e-12)
+    assert d["tau_shaft"] * w < 0.0  # braking
+    still = [named(HydraulicMotor, HydraulicMotor.derivatives(a=pa, b=pb, shaft=s, G_leak=G, **MOTOR))["tau_shaft"]
+             for s in (-1e-9, 0.0, 1e-9)]
+    assert still == pytest.approx([MOTOR["D"] * (pa - pb)] * 3, rel=1e-12)
 
 
 @pytest.mark.parametrize("eps_max", [1.0, 0.6])

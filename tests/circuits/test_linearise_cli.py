@@ -165,3 +165,29 @@ def test_a_servo_tracking_a_ramp_is_a_steady_motion_once_its_error_has_settled(c
     code, out, err = run(capsys, drive, "-q", "--equilibrium", "--at", "0.6")
     assert code == 0, err
     assert "# a snapshot: as x_ref.x, angle.theta move, the others' rest changes" in out
+
+
+SHUT_IN_MOVING = """
+description: a cylinder with oil shut in both chambers, set moving at 0.1 m/s; it rings and comes to rest
+fluid: {rho: "850 kg/m^3", beta: "1.4e9 Pa"}
+components:
+  cyl:   {type: cylinder, params: {A_A: "20 cm^2", A_B: "10 cm^2", stroke: "2 m", V0_A: "0.2 l", V0_B: "0.2 l"},
+          initial: {x: "0.2 m"}}
+  load:  {type: mass, params: {m: "200 kg"}}
+  damp:  {type: trans_damper, params: {b: "2000 N*s/m"}}
+nets:
+  A: {ports: [cyl.A], volume: "0.3 l", initial: "10 bar"}
+  B: {ports: [cyl.B], volume: "0.3 l", initial: "20 bar"}
+  rod: {ports: [cyl.rod, load.port, damp.port], initial: "0.1 m/s"}
+outputs: {pA: {of: A, unit: bar}, v: {of: rod, unit: mm/s}}
+simulation: {t_end: "0.05 s", dt_out: "1 ms"}
+"""
+
+
+def test_a_rest_point_newton_cannot_isolate_is_not_called_a_steady_motion(tmp_path, capsys):
+    """Found by the diff review: oil shut in both chambers has rest points at any pressure level, and the
+    steady-motion search returned one (v = 4e-29 mm/s, 12837 bar) as 'the steady motion'."""
+    (tmp_path / "shut.yaml").write_text(SHUT_IN_MOVING)
+    code, out, err = run(capsys, tmp_path / "shut.yaml", "-q", "--equilibrium")
+    assert code == 1 and "no equilibrium found" in err and "the Jacobian is singular there" in err
+    assert "steady motion" not in out

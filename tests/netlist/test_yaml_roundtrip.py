@@ -120,3 +120,41 @@ def test_a_subsystem_path_moved_for_the_new_folder_changes_only_that_path(tmp_pa
     doc = NetlistDoc.read(tmp_path / "top.yaml")
     written = doc.write(tmp_path / "out" / "top.yaml").read_text()
     assert written == "# three axes\nsubsystems:\n  bridge: {netlist: ../parts/axis.yaml}   # the bridge\n"
+
+
+def test_an_effect_added_as_calibrate_adds_it_keeps_every_comment_and_adds_no_empty_section(tmp_path):
+    """Found by the diff review: NetlistDoc.unique() made an empty `subsystems:` section, whose insertion
+    shared its place with the new net's at the end of `nets:` and was made in the wrong order there, so
+    every such file was written afresh, its comments lost."""
+    (tmp_path / "rig.yaml").write_text(ORIGINAL)
+    doc = NetlistDoc.read(tmp_path / "rig.yaml")
+    name = doc.unique("cal_leak")
+    doc.add_parameter("cal_G", 1e-12)
+    doc.add_component(name, "laminar_orifice", {"G": "cal_G"})
+    doc.move_port("relief.a", "cal_node", f"{name}.a", f"{name}.b", volume=1e-6, initial="20 bar")
+    written = doc.write(tmp_path / "out" / "augmented.yaml").read_text()
+    assert yaml.safe_load(written) == {k: v for k, v in doc.data.items() if v != {}}
+    assert changed_lines(ORIGINAL, written) == [
+        "+  cal_G: 1.0e-12",
+        "+  cal_leak: {type: laminar_orifice, params: {G: cal_G}}",
+        '-  P1: {ports: [relief.a], volume: "0.5 l"}   # the pump line',
+        '+  P1: {ports: [cal_leak.a], volume: "(0.5 l) - 1e-06 m^3"}   # the pump line',
+        '+  cal_node: {ports: [relief.a, cal_leak.b], volume: 1.0e-06, initial: "20 bar"}',
+    ]
+
+
+def test_a_crlf_file_stays_crlf(tmp_path):
+    (tmp_path / "rig.yaml").write_bytes(ORIGINAL.replace("\n", "\r\n").encode())
+    doc = NetlistDoc.read(tmp_path / "rig.yaml")
+    doc.add_parameter("cal_a", 1.0)
+    written = doc.write(tmp_path / "out" / "rig.yaml", header="Added: a.").read_bytes()
+    assert written.count(b"\n") == written.count(b"\r\n") == ORIGINAL.count("\n") + 3  # + cal_a, header, rule
+
+
+def test_anchors_and_aliases_are_written_afresh_not_misplaced():
+    """An alias's node is its anchor's, positions and all: an entry placed after it would land after the
+    anchor instead (found by the diff review)."""
+    text = "base: &b {A: 1}\nc:\n  x: *b\n"
+    data = parse_yaml_text(text, "a.yaml").data
+    data["n"] = 1
+    assert dump_over(text, data) is None

@@ -35,21 +35,25 @@ def pump_flow_and_torque(D, p_s, p_p, w, G_leak, eta_hm, w_w, p_vap):
     f = smooth_step(p_in, p_vap - dp_f, dp_f)               liquid fill of the chambers from the side they
                                                             fill from: p_in = p_s for w >= 0, p_p for w < 0
     q = f*D*w - G_leak*dp                                   delivered to the outlet [m^3/s]
-    tau_h = -f*D*dp                                         torque the oil exerts on the shaft [N*m]
+    tau_h = -D*dp                                           torque the oil exerts on the shaft [N*m]
     tau = tau_h - (1/eta_hm - 1)*|tau_h|*tanh(w/w_w)        torque on the shaft [N*m]
 
     The loss term is a Coulomb-like friction opposing w, of the size that makes the shaft power
-    -tau*w = f*D*dp*w/eta_hm while pumping (dp*w > 0, |w| >> w_w). The fill f is 1 at and above the fluid's
+    -tau*w = D*dp*w/eta_hm while pumping (dp*w > 0, |w| >> w_w). The fill f is 1 at and above the fluid's
     vapour pressure p_vap (the expressions are then those without it, bit for bit) and falls to 0 over the
     band dp_f = FILL_BAND (0.005 bar) below it: chambers that fill from a net drawn below p_vap fill with
     vapour, so a pump delivers no more oil than its inlet gets (a closed or starved suction line ends its
     delivery instead of growing a cavity in it without end). The band is the top tenth of the one over
     which a net's liquid gives way to its vapour cavity (blocks.library.hydraulic.cavitation), where that
     cavity is still under 0.5 cm^3: the oil a pump draws from a closed net is the net's own, not a cavity's.
+    The torque is not scaled by f: a chamber that comes round full of vapour is flooded from the outlet as
+    it opens to it, and its piston then works against the outlet's full pressure; the power D*dp*w less
+    the f*D*w*dp delivered is lost throttling that backflow (and the torque stays continuous through w = 0,
+    where the side the chambers fill from changes).
     """
     f = chamber_fill(p_s, p_p, w, p_vap)
     dp = p_p - p_s
     q = f * D * w - G_leak * dp
-    tau_h = -f * D * dp
+    tau_h = -D * dp
     tau = tau_h - (1.0 / eta_hm - 1.0) * abs(tau_h) * math.tanh(w / w_w)
     return q, tau

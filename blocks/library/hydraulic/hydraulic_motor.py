@@ -14,7 +14,7 @@ class HydraulicMotor(Block):
     f = smooth_step(p_in, p_vap - dp_f, dp_f)   fill of the chambers from p_in = p_a (w >= 0), p_b (w < 0)
     q_m = f*D*w + G_leak*(p_a - p_b)        flow through the motor from a to b [m^3/s]
     q_a = -q_m,  q_b = +q_m
-    tau_h = f*D*(p_a - p_b)                 hydraulic torque [N*m]
+    tau_h = D*(p_a - p_b)                   hydraulic torque [N*m]
     tau = tau_h - (1 - eta_hm)*|tau_h|*tanh(w/w_w)   torque on the shaft [N*m]
     J_shaft = J_m                           inertia added to the shaft net [kg*m^2]
 
@@ -32,8 +32,11 @@ class HydraulicMotor(Block):
     Filling: f = 1 while the port the chambers fill from is at or above the fluid's vapour pressure p_vap
     (the equations are then those without f, bit for bit). Below it, over dp_f = 0.005 bar, the chambers
     take in vapour: an overrunning load that draws its motor's inlet line down to the vapour pressure
-    (a meter-out circuit braking with too little make-up oil) gets only the braking torque of the oil the
-    line lets in, and runs away as on the machine, instead of braking on oil the line does not hold.
+    (a meter-out circuit braking with too little make-up oil) passes only the oil the line lets in, so the
+    outlet gets no more, and its braking pressure falls as the outlet drains: the load runs away, as on the
+    machine, instead of braking on oil the line does not hold. The torque is the full D*(p_a - p_b): the
+    vapour-filled chambers are flooded from the outlet as they open to it (the outlet's pressure, while it
+    lasts, still brakes; the vacuum at the inlet brakes with about D*1 bar).
     """
 
     ports = (
@@ -55,6 +58,6 @@ class HydraulicMotor(Block):
         dp = a - b
         f = chamber_fill(a, b, shaft, p_vap)
         q = f * D * shaft + G_leak * dp
-        tau_h = f * D * dp
+        tau_h = D * dp
         tau = tau_h - (1.0 - eta_hm) * abs(tau_h) * math.tanh(shaft / w_w)
         return -q, q, tau, J_m

@@ -13,7 +13,7 @@ class Pump(Block):
     f = smooth_step(p_in, p_vap - dp_f, dp_f)            fill of the chambers from p_in = p_s (w >= 0), p_p (w < 0)
     q = f*D*w - G_leak*dp                                 flow delivered from s to p [m^3/s]
     q_s = -q,  q_p = +q
-    tau_h = -f*D*dp                                       torque of the oil on the shaft [N*m]
+    tau_h = -D*dp                                         torque of the oil on the shaft [N*m]
     tau = tau_h - (1/eta_hm - 1)*|tau_h|*tanh(w/w_w)      torque on the shaft [N*m]
     J_shaft = J_p                                         inertia added to the shaft net [kg*m^2]
 
@@ -30,7 +30,9 @@ class Pump(Block):
     (the usual case; the equations are then those without f, bit for bit). Below it the chambers take in
     vapour, and f falls to 0 over dp_f = 0.005 bar: a pump delivers no more than its suction line lets in
     (the suction-limited flow of a starved pump), and a closed suction ends its delivery once its own oil
-    is drawn out, instead of growing a cavity in the suction net without end.
+    is drawn out, instead of growing a cavity in the suction net without end. The torque keeps the full
+    D*dp: the vapour-filled chambers are flooded from the outlet as they open to it, and the pistons work
+    against its pressure (the power beyond f*D*w*dp is lost throttling that backflow).
 
     Motoring (dp*w < 0: the outlet pressure drives the shaft backwards, w < 0, e.g. an accumulator on p
     after the prime mover stops): oil flows from p back to s and the machine is a motor with

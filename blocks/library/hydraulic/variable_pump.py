@@ -18,7 +18,7 @@ class VariablePump(Block):
     f = smooth_step(p_in, p_vap - dp_f, dp_f)             fill of the chambers from p_in = p_s (w >= 0), p_p (w < 0)
     q = f*e*D_max*w - G_leak*dp                            flow delivered from s to p [m^3/s]
     q_s = -q,  q_p = +q
-    tau_h = -f*e*D_max*dp                                  torque of the oil on the shaft [N*m]
+    tau_h = -e*D_max*dp                                    torque of the oil on the shaft [N*m]
     tau = tau_h - (1/eta_hm - 1)*|tau_h|*tanh(w/w_w)       torque on the shaft [N*m]
     J_shaft = J_p                                          inertia added to the shaft net [kg*m^2]
 
@@ -34,7 +34,7 @@ class VariablePump(Block):
     suction is usually the tank).
 
     Sign convention, power and filling as for `pump` with D = e*D_max: w > 0 pumps from s to p; the shaft
-    supplies -tau*w = f*e*D_max*dp*w/eta_hm while pumping; running backwards against a pressurised outlet
+    supplies -tau*w = e*D_max*dp*w/eta_hm while pumping; running backwards against a pressurised outlet
     it motors; a suction drawn below the vapour pressure fills the chambers with vapour (f < 1), which
     limits the flow to what the suction line lets in.
     """
