@@ -128,7 +128,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         args = build_parser().parse_args(argv)
         with interrupt.handling():
-            code = COMMANDS[args.command](args)
+            try:
+                code = COMMANDS[args.command](args)
+            except Exception:
+                interrupt.check()  # an error an interrupt caused (a compilation cut short fails later)
+                raise
             interrupt.check()  # an interrupt a compiled call swallowed: not a success
             return code
     except ArgumentError as exc:
@@ -141,8 +145,7 @@ def main(argv: list[str] | None = None) -> int:
         _say(f"vphs: {exc}")
         return EXIT_BAD_INPUT
     except KeyboardInterrupt:
-        _say("vphs: interrupted; nothing half-written was left behind")
-        return 130
+        return _interrupted()
     except BrokenPipeError:  # `vphs blocks | head`: the reader left; not an error of ours
         try:
             sys.stdout = open(os.devnull, "w")
@@ -151,8 +154,7 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
         if interrupt.caused_by_interrupt(exc):  # Ctrl-C inside a compiled call comes out as a SystemError
-            _say("vphs: interrupted; nothing half-written was left behind")
-            return 130
+            return _interrupted()
         if os.environ.get("VPHS_DEBUG"):
             raise
         if isinstance(exc, OSError) and exc.filename is not None:  # the file system refused: a full disk, a
@@ -160,6 +162,21 @@ def main(argv: list[str] | None = None) -> int:
             return EXIT_FAILED
         _say(f"vphs: internal error: {type(exc).__name__}: {exc} (set VPHS_DEBUG=1 for the traceback)")
         return EXIT_FAILED
+
+
+def _interrupted() -> int:
+    _say("vphs: interrupted; nothing half-written was left behind")
+    return 130
+
+
+def entry() -> None:
+    """The `vphs` command: :func:`main`, and its exit code. After a Ctrl-C, what an interrupted compilation
+    left half-built (llvmlite's objects) may fail to finalise as the interpreter exits: that is not printed
+    after the one line."""
+    code = main()
+    if code == 130:
+        sys.unraisablehook = lambda unraisable: None
+    sys.exit(code)
 
 
 def cmd_validate(args) -> int:
@@ -281,9 +298,14 @@ RUN_SETTING_OPTIONS = {"t_end": "--t-end", "solver": "--solver"}  # the simulati
 
 
 def cmd_run(args) -> int:
+    import math
+
     from blocks.circuit import Circuit
     from blocks.units import UnitError, quantity
 
+    for option, given in (("-o", args.output), ("--plot", args.plot)):
+        if given is not None and not given.strip():
+            raise ArgumentError(f"vphs: {option} '{given}': name a file (without -o the CSV goes to standard output)")
     check_output_paths(args.output, args.plot, inputs=(args.netlist,))
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
     _check_plot_signals(args, [o.name for o in circuit.outputs])
@@ -292,11 +314,14 @@ def cmd_run(args) -> int:
     settings = circuit.settings
     if args.solver:
         settings = settings.with_(solver=args.solver)
-    if args.t_end:
+    if args.t_end is not None:
         try:
-            settings = settings.with_(t_end=quantity(args.t_end if not _is_number(args.t_end) else float(args.t_end), "s"))
+            t_end = quantity(args.t_end if not _is_number(args.t_end) else float(args.t_end), "s")
         except UnitError as exc:
-            raise ArgumentError(f"vphs: --t-end: {exc}") from None
+            raise ArgumentError(f"vphs: --t-end '{args.t_end}': {exc}") from None
+        if not math.isfinite(t_end):
+            raise ArgumentError(f"vphs: --t-end '{args.t_end}': not a finite time")
+        settings = settings.with_(t_end=t_end)
     problem = settings.problem()
     if problem:
         raise ArgumentError(f"vphs: simulation.{problem[0]} (with --solver/--t-end): {problem[1]}")
@@ -756,4 +781,4 @@ COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "gra
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    entry()

@@ -6,14 +6,17 @@ numba compiles is printed as "Exception ignored" and dropped: the run went on as
 (found by a review of `vphs calibrate`: 3 of 30 Ctrl-Cs ended in "internal error", 1 was ignored).
 
 :func:`handling` installs a handler that notes each SIGINT before raising KeyboardInterrupt as Python's
-own does; :func:`check` raises it again where an interrupt may have been swallowed (after each compiled
-integration and each compilation); :func:`caused_by_interrupt` tells a SystemError of an interrupted
-compiled call from a bug.
+own does, and an unraisable-exception hook that takes a KeyboardInterrupt dropped in a callback silently
+(noted, not printed as "Exception ignored ... Traceback"); :func:`check` raises it again where an interrupt
+may have been swallowed (after each compiled integration and each compilation, and before any error a
+command ends in: an interrupted compilation fails later with "no compiled object yet", found by a fuzzer);
+:func:`caused_by_interrupt` tells a SystemError of an interrupted compiled call from a bug.
 """
 
 from __future__ import annotations
 
 import signal
+import sys
 import threading
 from contextlib import contextmanager
 
@@ -33,10 +36,20 @@ def handling():
         return
     _noted.clear()
     previous = signal.signal(signal.SIGINT, _note_and_raise)
+    previous_hook = sys.unraisablehook
+
+    def hook(unraisable):
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):
+            _noted.append(signal.SIGINT)  # raised in a callback that could not pass it on: noted, not printed
+        else:
+            previous_hook(unraisable)
+
+    sys.unraisablehook = hook
     try:
         yield
     finally:
         signal.signal(signal.SIGINT, previous)
+        sys.unraisablehook = previous_hook
         _noted.clear()
 
 

@@ -142,7 +142,14 @@ def operating_point(circuit, overrides: dict[str, float], settings, at: float | 
             held_at = "its value there" if len(moving) == 1 else "their values there"
             how = (f"the steady motion with the inputs held at their values at t = {t:g} s ({', '.join(moving)} "
                    f"moving, held at {held_at} for the others' rest), found from {how}")
-    return OperatingPoint(t, x, dict(overrides), how, _rates(circuit, t, x, overrides), moving)
+    rates = _rates(circuit, t, x, overrides)
+    bad = [name for name, value, rate in zip(_state_names(circuit), x, rates)
+           if not (math.isfinite(value) and math.isfinite(rate))]
+    if bad:
+        raise SimulationError(f"{circuit.flat.file}: at {how}, the value or the rate of {', '.join(bad[:6])} is not "
+                              f"finite: nothing to linearise (a non-finite initial value, or a rigid body with no "
+                              f"mass or inertia?)")
+    return OperatingPoint(t, x, dict(overrides), how, rates, moving)
 
 
 EQUILIBRIUM_FAILURE = {

@@ -77,6 +77,7 @@ def test_modes_table_and_files_in_the_units_asked_for(tmp_path, capsys):
     (["-o", "{tmp}/m.csv", "--state-space", "{tmp}/m.csv"], "-o and --state-space name one file"),
     (["-o", str(MODES)], "is an input of this command"),
     (["--set", "V=-1 l"], "must be positive"),
+    (["--at", "0", "--set", "m=0"], "the value or the rate of rod.v is not finite: nothing to linearise"),
     (["--equilibrium"], "no equilibrium found"),
     (["--input", "m", "--points", "1000000000"], "--points 1000000000: need 2 to 100000"),
     (["--response", ""], "--response '': name a file"),

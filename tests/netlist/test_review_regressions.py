@@ -481,3 +481,19 @@ def test_a_subsystem_part_alone_says_that_its_exposed_nets_are_completed_by_its_
     assert cli.main(["validate", str(CASES / "hydraulic_no_volume.yaml")]) == 2
     err = capsys.readouterr().err
     assert "has no volume" in err and "subsystem part" not in err
+
+
+@pytest.mark.parametrize("args, message", [
+    (["--t-end", "inf"], "--t-end 'inf': not a finite time"),
+    (["--t-end", "1e400"], "--t-end '1e400': not a finite time"),
+    (["--t-end", ""], "--t-end '': '' is not '<number> <unit>'"),
+    (["-o", ""], "-o '': name a file"),
+])
+def test_run_arguments_a_fuzzer_found_blamed_elsewhere_or_ignored(tmp_path, capsys, args, message):
+    """Session 20's fuzzer: --t-end inf was blamed on dt_out ("more than 5 million output samples"), and an
+    empty --t-end or -o was ignored (the full run; the CSV on standard output)."""
+    netlist = Path(__file__).resolve().parents[2] / "netlists" / "examples" / "drive_line.yaml"
+    code = cli.main(["run", str(netlist), "-q", *args])
+    captured = capsys.readouterr()
+    assert code == 2 and captured.err.startswith(f"vphs: {message}")
+    assert captured.err.count("\n") == 1 and captured.out == ""
