@@ -140,9 +140,9 @@ def main(argv: list[str] | None = None) -> int:
     except VphsError as exc:
         _say(f"vphs: {exc}")
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        _say("vphs: interrupted; nothing half-written was left behind")
-        return 130
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (interrupt.Terminated): stopped alike
+        _say(f"vphs: {interrupt.stopped(exc)}; nothing half-written was left behind")
+        return interrupt.exit_code(exc)
     except BrokenPipeError:  # `vphs blocks | head`: the reader left; not an error of ours
         try:
             sys.stdout = open(os.devnull, "w")
@@ -150,9 +150,10 @@ def main(argv: list[str] | None = None) -> int:
             pass
         return 0
     except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
-        if interrupt.caused_by_interrupt(exc):  # Ctrl-C inside a compiled call comes out as a SystemError
-            _say("vphs: interrupted; nothing half-written was left behind")
-            return 130
+        stop = interrupt.interrupt_of(exc)
+        if stop is not None:  # Ctrl-C inside a compiled call comes out as a SystemError
+            _say(f"vphs: {interrupt.stopped(stop)}; nothing half-written was left behind")
+            return interrupt.exit_code(stop)
         if os.environ.get("VPHS_DEBUG"):
             raise
         if isinstance(exc, OSError) and exc.filename is not None:  # the file system refused: a full disk, a

@@ -10,13 +10,16 @@
 
 from __future__ import annotations
 
+import os
 import re
+import signal
 from pathlib import Path
 
 import pytest
 import yaml
 
 import cli
+from blocks import interrupt
 from blocks.calibrate.experiment import load_experiment
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -111,3 +114,121 @@ def test_a_step_that_is_not_a_positive_size_is_refused(tmp_path, capsys, step, p
 
 def test_a_positive_step_is_kept(tmp_path):
     assert load_experiment(files(tmp_path, step="0.5 bar")).free[0].step == pytest.approx(0.5e5)
+
+
+# ---------------------------------------------------------------- SIGTERM
+@pytest.fixture
+def sigterm_guard():
+    """Without the handling, a SIGTERM sent to the test process would end it: here it raises instead, which the
+    command reports as an internal error (exit 1), so the test fails rather than the run dying."""
+    class Unhandled(Exception):
+        pass
+
+    def unhandled(signum, frame):
+        raise Unhandled("SIGTERM not handled by the command")
+
+    previous = signal.signal(signal.SIGTERM, unhandled)
+    yield
+    signal.signal(signal.SIGTERM, previous)
+
+
+def _terminated_mid_run(monkeypatch, swallow: bool = False):
+    """Replace the fit by one that writes a round's files, then receives SIGTERM (swallowed, as a ctypes
+    callback would, if ``swallow``: the command must stop at its next check all the same)."""
+    import blocks.calibrate.run as run
+
+    def fit(exp, out, progress=None, warn=None):
+        (Path(out) / "round1").mkdir()
+        (Path(out) / "round1" / "screening.yaml").write_text("half")
+        (Path(out) / "experiment_augmented.yaml").write_text("half")
+        try:
+            os.kill(os.getpid(), signal.SIGTERM)
+        except KeyboardInterrupt:
+            if not swallow:
+                raise
+        interrupt.check()  # as the fit does after each compiled integration
+        pytest.fail("the command went on after a SIGTERM")
+
+    monkeypatch.setattr(run, "calibrate", fit)
+
+
+@pytest.mark.parametrize("swallow", [False, True])
+def test_sigterm_stops_calibrate_as_ctrl_c_does(tmp_path, capsys, monkeypatch, sigterm_guard, swallow):
+    path = files(tmp_path)
+    _terminated_mid_run(monkeypatch, swallow)
+    code, err = calibrate(tmp_path, capsys, path)
+    assert (code, err) == (143, "vphs: terminated; nothing half-written was left behind")
+    assert not (tmp_path / "out").exists()
+
+
+def test_sigterm_puts_the_previous_output_back(tmp_path, capsys, monkeypatch, sigterm_guard):
+    path = files(tmp_path)
+    out = tmp_path / "out"
+    (out / "round1").mkdir(parents=True)
+    (out / "round1" / "screening.yaml").write_text("old")
+    (out / "report.md").write_text("old report")
+    _terminated_mid_run(monkeypatch)
+    code, err = calibrate(tmp_path, capsys, path)
+    assert code == 143 and err == "vphs: terminated; nothing half-written was left behind"
+    assert sorted(str(p.relative_to(out)) for p in out.rglob("*")) == ["report.md", "round1", "round1/screening.yaml"]
+    assert (out / "round1" / "screening.yaml").read_text() == "old"
+
+
+def test_sigterm_stops_vphs_run_too(tmp_path, capsys, monkeypatch, sigterm_guard):
+    """The handling is main()'s, shared by every command: vphs run during compilation, nothing written."""
+    from blocks.circuit import Circuit
+
+    def compile_and_stop(self, quiet=True):
+        os.kill(os.getpid(), signal.SIGTERM)
+
+    monkeypatch.setattr(Circuit, "compile", compile_and_stop)
+    step = ROOT / "tests" / "circuits" / "netlists" / "second_order_step.yaml"
+    code = cli.main(["run", str(step), "-q", "-o", str(tmp_path / "r.csv")])
+    assert code == 143 and capsys.readouterr().err.strip() == "vphs: terminated; nothing half-written was left behind"
+    assert not (tmp_path / "r.csv").exists()
+
+
+def test_a_system_error_from_a_terminated_compiled_call_exits_143(tmp_path, capsys, monkeypatch):
+    import blocks.solve.run as run
+
+    def terminated_call(*args, **kwargs):
+        try:
+            raise interrupt.Terminated
+        except KeyboardInterrupt as inner:
+            raise SystemError("returned a result with an exception set") from inner
+
+    monkeypatch.setattr(run, "_solve_compiled", terminated_call)
+    step = ROOT / "tests" / "circuits" / "netlists" / "second_order_step.yaml"
+    code = cli.main(["run", str(step), "-q", "-o", str(tmp_path / "r.csv")])
+    assert code == 143 and "vphs: terminated; nothing half-written" in capsys.readouterr().err
+
+
+def test_a_sigterm_ignored_at_the_start_stays_ignored():
+    previous = signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    try:
+        with interrupt.handling():
+            assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
+        assert signal.getsignal(signal.SIGTERM) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGTERM, previous)
+
+
+def test_sigterm_during_the_renames_of_results_is_taken_after_them(tmp_path, monkeypatch, sigterm_guard):
+    """write_together holds a SIGTERM, as it holds Ctrl-C, until every target is in place."""
+    from blocks import result
+
+    real = os.replace
+    moved = []
+
+    def replace_then_term(src, dst):
+        real(src, dst)
+        moved.append(dst)
+        if len(moved) == 1:
+            os.kill(os.getpid(), signal.SIGTERM)
+
+    monkeypatch.setattr(os, "replace", replace_then_term)
+    with interrupt.handling():
+        with pytest.raises(interrupt.Terminated):
+            result.write_together((tmp_path / "a.csv", lambda tmp: Path(tmp).write_text("a")),
+                                  (tmp_path / "b.png", lambda tmp: Path(tmp).write_text("b")))
+    assert (tmp_path / "a.csv").read_text() == "a" and (tmp_path / "b.png").read_text() == "b"
