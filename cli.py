@@ -144,8 +144,8 @@ def main(argv: list[str] | None = None) -> int:
     except VphsError as exc:
         _say(f"vphs: {exc}")
         return EXIT_BAD_INPUT
-    except KeyboardInterrupt:
-        return _interrupted()
+    except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (interrupt.Terminated): stopped alike
+        return _interrupted(exc)
     except BrokenPipeError:  # `vphs blocks | head`: the reader left; not an error of ours
         try:
             sys.stdout = open(os.devnull, "w")
@@ -153,8 +153,9 @@ def main(argv: list[str] | None = None) -> int:
             pass
         return 0
     except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
-        if interrupt.caused_by_interrupt(exc):  # Ctrl-C inside a compiled call comes out as a SystemError
-            return _interrupted()
+        stop = interrupt.interrupt_of(exc)
+        if stop is not None:  # Ctrl-C inside a compiled call comes out as a SystemError
+            return _interrupted(stop)
         if os.environ.get("VPHS_DEBUG"):
             raise
         if isinstance(exc, OSError) and exc.filename is not None:  # the file system refused: a full disk, a
@@ -164,9 +165,12 @@ def main(argv: list[str] | None = None) -> int:
         return EXIT_FAILED
 
 
-def _interrupted() -> int:
-    _say("vphs: interrupted; nothing half-written was left behind")
-    return 130
+def _interrupted(exc: KeyboardInterrupt) -> int:
+    """The one line of a Ctrl-C (exit 130) or a SIGTERM (exit 143)."""
+    from blocks import interrupt
+
+    _say(f"vphs: {interrupt.stopped(exc)}; nothing half-written was left behind")
+    return interrupt.exit_code(exc)
 
 
 def entry() -> None:
@@ -174,7 +178,7 @@ def entry() -> None:
     left half-built (llvmlite's objects) may fail to finalise as the interpreter exits: that is not printed
     after the one line."""
     code = main()
-    if code == 130:
+    if code in (130, 143):
         sys.unraisablehook = lambda unraisable: None
     sys.exit(code)
 

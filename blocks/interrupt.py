@@ -11,6 +11,12 @@ own does, and an unraisable-exception hook that takes a KeyboardInterrupt droppe
 may have been swallowed (after each compiled integration and each compilation, and before any error a
 command ends in: an interrupted compilation fails later with "no compiled object yet", found by a fuzzer);
 :func:`caused_by_interrupt` tells a SystemError of an interrupted compiled call from a bug.
+
+SIGTERM (``kill``, a batch system's time limit, a service manager) is handled the same way: it raised
+nothing and killed the process outright, leaving a calibration's output folder half-written (round1/, an
+augmented experiment) where Ctrl-C leaves nothing behind. Within :func:`handling` it raises
+:class:`Terminated`, a KeyboardInterrupt, so that every command stops as on Ctrl-C (its partial output
+undone) and says so, exiting 128 + 15 = 143. A SIGTERM the process was started ignoring stays ignored.
 """
 
 from __future__ import annotations
@@ -23,24 +29,35 @@ from contextlib import contextmanager
 _noted: list[int] = []
 
 
+class Terminated(KeyboardInterrupt):
+    """A SIGTERM, raised as an interrupt: the command stops as on Ctrl-C; the process exits 143, not 130."""
+
+
+def as_raised(signum: int) -> KeyboardInterrupt:
+    """The exception a noted signal is raised as: :class:`Terminated` for SIGTERM, else KeyboardInterrupt."""
+    return Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+
 def _note_and_raise(signum, frame):
     _noted.append(signum)
-    raise KeyboardInterrupt
+    raise as_raised(signum)
 
 
 @contextmanager
 def handling():
-    """Within: every SIGINT is noted (main thread only; elsewhere signals cannot be handled)."""
+    """Within: every SIGINT and SIGTERM is noted (main thread only; elsewhere signals cannot be handled);
+    a SIGTERM ignored when the command started (``nohup``-like launchers, a parent's choice) stays ignored."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     _noted.clear()
-    previous = signal.signal(signal.SIGINT, _note_and_raise)
+    previous = {number: signal.signal(number, _note_and_raise) for number in (signal.SIGINT, signal.SIGTERM)
+                if signal.getsignal(number) is not signal.SIG_IGN or number == signal.SIGINT}
     previous_hook = sys.unraisablehook
 
     def hook(unraisable):
-        if isinstance(unraisable.exc_value, KeyboardInterrupt):
-            _noted.append(signal.SIGINT)  # raised in a callback that could not pass it on: noted, not printed
+        if isinstance(unraisable.exc_value, KeyboardInterrupt):  # raised in a callback that could not pass it
+            _noted.append(signal.SIGTERM if isinstance(unraisable.exc_value, Terminated) else signal.SIGINT)
         else:
             previous_hook(unraisable)
 
@@ -48,15 +65,17 @@ def handling():
     try:
         yield
     finally:
-        signal.signal(signal.SIGINT, previous)
+        for number, handler in previous.items():
+            signal.signal(number, handler)
         sys.unraisablehook = previous_hook
         _noted.clear()
 
 
 def check() -> None:
-    """Raise KeyboardInterrupt if a SIGINT was noted: once interrupted, a command stops at the next check."""
+    """Raise KeyboardInterrupt (:class:`Terminated` for a SIGTERM) if a signal was noted: once interrupted, a
+    command stops at the next check."""
     if _noted:
-        raise KeyboardInterrupt
+        raise as_raised(_noted[0])
 
 
 def raises_interrupt(handler) -> bool:
@@ -64,12 +83,27 @@ def raises_interrupt(handler) -> bool:
     return handler in (signal.default_int_handler, _note_and_raise)
 
 
-def caused_by_interrupt(exc: BaseException) -> bool:
-    """Whether ``exc`` is, or was raised while handling, a KeyboardInterrupt."""
+def interrupt_of(exc: BaseException) -> KeyboardInterrupt | None:
+    """The KeyboardInterrupt (or :class:`Terminated`) ``exc`` is, or was raised while handling; else None."""
     seen = set()
     while exc is not None and id(exc) not in seen:
         if isinstance(exc, KeyboardInterrupt):
-            return True
+            return exc
         seen.add(id(exc))
         exc = exc.__cause__ or exc.__context__
-    return False
+    return None
+
+
+def caused_by_interrupt(exc: BaseException) -> bool:
+    """Whether ``exc`` is, or was raised while handling, a KeyboardInterrupt."""
+    return interrupt_of(exc) is not None
+
+
+def exit_code(exc: KeyboardInterrupt) -> int:
+    """128 + the signal's number, as a shell reports a process the signal ended: 143 for SIGTERM, else 130."""
+    return 128 + (signal.SIGTERM if isinstance(exc, Terminated) else signal.SIGINT)
+
+
+def stopped(exc: KeyboardInterrupt) -> str:
+    """'terminated' (SIGTERM) or 'interrupted' (Ctrl-C), for the command's last line."""
+    return "terminated" if isinstance(exc, Terminated) else "interrupted"

@@ -145,6 +145,8 @@ def write_together(*files) -> None:
     import signal
     import threading
 
+    from blocks import interrupt
+
     staged: list[tuple[Path, Path]] = []
     try:
         for path, write in files:
@@ -163,17 +165,21 @@ def write_together(*files) -> None:
             raise ValueError("write_together: two of the files are one path")
         interrupted = []
         held = threading.current_thread() is threading.main_thread()
-        if held:  # a handler that only takes note: whichever thread the signal reaches, Python runs it here
-            previous = signal.signal(signal.SIGINT, lambda signum, frame: interrupted.append(signum))
+        previous = {}
+        if held:  # a handler that only takes note: whichever thread the signal reaches, Python runs it here;
+            # SIGTERM too where it is raised as an interrupt (blocks.interrupt.handling), not where ignored
+            previous = {number: signal.signal(number, lambda signum, frame: interrupted.append(signum))
+                        for number in (signal.SIGINT, signal.SIGTERM)
+                        if number == signal.SIGINT or interrupt.raises_interrupt(signal.getsignal(number))}
         try:
             for tmp, path in staged:
                 if not special_target(path):
                     os.replace(tmp, path)
         finally:
-            if held:
-                signal.signal(signal.SIGINT, previous)
+            for number, handler in previous.items():
+                signal.signal(number, handler)
         if interrupted:
-            raise KeyboardInterrupt
+            raise interrupt.as_raised(interrupted[0])
         for tmp, path in staged:
             if special_target(path):
                 _append_into(tmp, path)

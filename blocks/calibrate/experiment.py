@@ -18,9 +18,10 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     overrides: {R_meter: "5e8 Pa*s/m^3"} # parameter values for every point
     groups:                              # per group: parameter values (e.g. each crack setting) ...
       "1": {p_set: "30 bar"}
-    group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group
+    group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group:
+                                         # one row per group, 'crack [bar]' in a unit of p_set's dimension
     free:                                # the declared free parameters, values in any unit of their dimension
-      k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}   # step: the finite-difference step
+      k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}   # step: the finite-difference step (> 0)
       shaft.initial: {initial: "0 rpm", per: group}   # one value per group (a time series: per run); a start
                                                       # per group: initial: {a: "0 rpm", b: "600 rpm"}
     drift: [k_s]                         # refitted per group (or run), should stay constant
@@ -78,7 +79,7 @@ from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_
 from blocks.units import (GENERIC, UnitError, display_factor, nearest, parse_unit, quantity, quantity_name, si_name,
                           si_value, split_quantity)
 
-Value = Union[float, int, str]
+from blocks.netlist.spec import Value  # a number, or '<number> <unit>'; never a YAML boolean (step: true was 1)
 
 
 class _Strict(BaseModel):
@@ -397,7 +398,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
         groups[str(label)] = {param_name(n, ("groups", label, n)): si(n, v, ("groups", label, n))
                               for n, v in values.items()}
     if spec.group_table is not None:
-        _read_group_table(spec, located, base, groups, param_name)
+        _read_group_table(spec, located, base, groups, param_name, circuit.flat.parameters)
 
     for c in channels:  # a latent level is fitted: a value given for it too would be silently overridden
         for k, level in enumerate(c.latent):
@@ -457,6 +458,9 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                                     f"free.{name}" + (f".initial.{group}" if group is not None else "")
                                     + f": the start value {shown(value)} is outside [{shown(lower)}, {shown(upper)}]")
         step = si(name, fs.step, path + ("step",)) if fs.step is not None else default_step(start, lower, upper)
+        if not (np.isfinite(step) and step > 0):  # the finite-difference step: a size, not a direction
+            raise located.error(path + ("step",), f"free.{name}.step: {_written(fs.step, step)} is not a positive "
+                                f"step; give the finite-difference step of {name} as a size above 0")
         free.append(Free(name, float(start), float(lower), float(upper), float(step), unit,
                          per_group=fs.per == "group", starts=starts))
     for k, name in enumerate(spec.drift):
@@ -536,8 +540,11 @@ def read_by_netlist(circuit, data_files: list[Path]) -> list[tuple[str, str]]:
     return found
 
 
-def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> None:
-    from blocks.datafile import DataFileError, read_table
+def _read_group_table(spec, located, base: Path, groups: dict, param_name, parameters) -> None:
+    """The values per group from ``group_table.file``: one row per group; each mapped column in a unit of its
+    parameter's dimension (a column in kg for a pressure, or without a unit for one, is refused as a data
+    column is: read in SI it would set 95.4 Pa for '95.4' meant in bar) and a number in every row."""
+    from blocks.datafile import DataFileError, header_of, read_table
 
     gt = spec.group_table
     if spec.group is None:
@@ -546,19 +553,44 @@ def _read_group_table(spec, located, base: Path, groups: dict, param_name) -> No
     if not path.is_file():
         raise located.error(("group_table", "file"), f"group_table.file: file not found: {gt.file}"
                             + _looked_for(gt.file, path))
-    try:
-        table = read_table(path, group=spec.group)
-    except DataFileError:
-        raise
+    table = read_table(path, group=spec.group)
+    _, header = header_of(path)
+    bracketed = {name: unit for name, unit in header}
     for column, target in gt.columns.items():
         param_name(target, ("group_table", "columns", column))
         if column not in table.columns:
             raise located.error(("group_table", "columns", column),
                                 f"group_table: no numeric column '{column}' in {gt.file} "
                                 f"(columns: {', '.join(table.columns)})")
+        dims = parameters.dimension(target)
+        if dims is None:  # the netlist does not say: the column's unit gives the value in SI
+            continue
+        si_unit = si_name(dims)
+        sets = f"it sets {target} (group_table.columns.{shown_key(column)} in {Path(located.file).name})"
+        if bracketed.get(column) is None and si_unit != "1":
+            suggestion = display_unit(parameters.entries[target])
+            try:
+                fits = bool(suggestion) and parse_unit(suggestion).same_dimension(dims)
+            except UnitError:
+                fits = False
+            raise DataFileError(table.file, f"column '{column}' has no unit, but {sets}, {described(si_unit)}: "
+                                f"write '{column} [{suggestion if fits else si_unit}]'", table.header_line,
+                                table.positions[column])
+        given = parse_unit(table.units[column])
+        if not given.same_dimension(dims):
+            raise table.error(f"{quantity_name(given)}, but {sets}, {described(si_unit)}", column)
+    for label, rows in table.groups.items():
+        if len(rows) > 1:
+            lines = [table.lines[k] for k in rows]
+            raise table.error(f"group '{label}' has {len(rows)} rows (lines {', '.join(map(str, lines[:-1]))} and "
+                              f"{lines[-1]}); a group table gives one row per group, else which values the group "
+                              f"takes is ambiguous", spec.group, int(rows[1]))
     for k, label in enumerate(table.labels):
         for column, target in gt.columns.items():
-            groups.setdefault(label, {})[target] = float(table.columns[column][k])
+            value = float(table.columns[column][k])
+            if not np.isfinite(value):
+                raise table.error(f"no value for group '{label}' (an empty cell); it sets {target}", column, k)
+            groups.setdefault(label, {})[target] = value
 
 
 def channel_unit(ch: ChannelSpec, levels: list[str], table, signals: dict) -> str:

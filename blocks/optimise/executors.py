@@ -50,8 +50,8 @@ def cores() -> int:
         return os.cpu_count() or 1
 
 
-class Terminated(KeyboardInterrupt):
-    """SIGTERM to a job's process that handles it (:func:`terminate_as_interrupt`): stopped as by Ctrl-C."""
+Terminated = interrupt.Terminated
+"""SIGTERM to a job's process that handles it (:func:`terminate_as_interrupt`): stopped as by Ctrl-C."""
 
 
 def terminate_as_interrupt(signum, frame) -> None:

@@ -52,10 +52,14 @@ Methods and their settings (defaults):
              ahead and discarded, so that the result does not depend on the workers)
     nelder_mead: max_evaluations 500, xatol 1e-4, fatol 1e-6, start random | netlist, adaptive false
              (one evaluation at a time: it uses one worker)
-    differential_evolution: max_evaluations 1000, popsize 15 (a generation is popsize * n designs, each
-             evaluated in parallel; the first is a Latin hypercube sample of the box), tol 0.01, atol 0,
-             mutation [0.5, 1.0], recombination 0.7, strategy best1bin, polish false. max_evaluations
-             must hold one generation; below two it only samples (the report says so).
+    differential_evolution: max_evaluations 1000, popsize 15 (a generation is popsize * n designs, at
+             least 5, 6 for rand2bin and rand2exp, each evaluated in parallel; the first is a Latin
+             hypercube sample of the box), tol 0.01, atol 0, mutation [0.5, 1.0] (a constant 0 <= F < 2,
+             or a dither range [min, max] with 0 <= min < max < 2), recombination 0.7, strategy best1bin
+             (scipy's: best1bin, best1exp, rand1bin, rand1exp, rand2bin, rand2exp, randtobest1bin,
+             randtobest1exp, currenttobest1bin, currenttobest1exp, best2bin, best2exp), polish false.
+             max_evaluations must hold one generation; below two it only samples (the report says so).
+    The tolerances (tol_x, tol_f, xatol, fatol, tol, atol) are finite numbers >= 0 (xatol > 0).
 Besides the method's evaluations, ``vphs optimise`` evaluates the netlist's own design first (its values of
 the free parameters, if inside the bounds) and the report compares the best with it.
 A point the method asks for again -- the same coordinates, bit for bit: a design clipped onto a bound once
@@ -100,7 +104,8 @@ from pathlib import Path
 from typing import Literal, Union
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, field_validator
+from pydantic_core import PydanticCustomError
 
 from blocks.errors import NetlistError
 from blocks.netlist.spec import Count, Number, Value
@@ -160,31 +165,73 @@ class ComplexSpec(Strict):
     n0: Number = Field(4.0, gt=0, allow_inf_nan=False)
     rfak: Number = Field(0.0, ge=0, allow_inf_nan=False)
     gamma: Number = Field(0.0, ge=0, allow_inf_nan=False)
-    tol_x: Number = Field(1e-4, ge=0)
-    tol_f: Number = Field(1e-5, ge=0)
+    tol_x: Number = Field(1e-4, ge=0, allow_inf_nan=False)
+    tol_f: Number = Field(1e-5, ge=0, allow_inf_nan=False)
     max_retractions: Count = Field(30, ge=0)
-    candidates: Union[int, Literal["auto"]] = "auto"
+    candidates: Union[Count, Literal["auto"]] = "auto"
 
 
 class NelderMeadSpec(Strict):
     method: Literal["nelder_mead"]
     max_evaluations: Count = Field(500, ge=1)
-    xatol: Number = Field(1e-4, gt=0)
-    fatol: Number = Field(1e-6, ge=0)
+    xatol: Number = Field(1e-4, gt=0, allow_inf_nan=False)
+    fatol: Number = Field(1e-6, ge=0, allow_inf_nan=False)
     start: Literal["random", "netlist"] = "random"
     adaptive: bool = False
+
+
+DE_STRATEGIES = ("best1bin", "best1exp", "rand1bin", "rand1exp", "rand2bin", "rand2exp", "randtobest1bin",
+                 "randtobest1exp", "currenttobest1bin", "currenttobest1exp", "best2bin", "best2exp")
+"""scipy.optimize.differential_evolution's strategies (its docstring's list; a test checks scipy takes each)."""
 
 
 class DESpec(Strict):
     method: Literal["differential_evolution"]
     max_evaluations: Count = Field(1000, ge=1)
     popsize: Count = Field(15, ge=1)
-    tol: Number = Field(0.01, ge=0)
-    atol: Number = Field(0.0, ge=0)
+    tol: Number = Field(0.01, ge=0, allow_inf_nan=False)
+    atol: Number = Field(0.0, ge=0, allow_inf_nan=False)
     mutation: Union[Number, tuple[Number, Number]] = (0.5, 1.0)
     recombination: Number = Field(0.7, ge=0, le=1)
     strategy: str = "best1bin"
     polish: bool = False
+
+    @field_validator("mutation", mode="before")
+    @classmethod
+    def _mutation_shape(cls, value):
+        if isinstance(value, (list, tuple)) and len(value) != 2:
+            raise PydanticCustomError("de_mutation", "a list of {count} values; give one number 0 <= F < 2, or a "
+                                      "dither range [min, max] with 0 <= min < max < 2", {"count": len(value)})
+        return value
+
+    @field_validator("mutation")
+    @classmethod
+    def _mutation(cls, value):
+        """scipy's rule, said before the run (scipy's own ValueError came out as an internal error): a
+        constant 0 <= F < 2, or a dither range [min, max] with 0 <= min < max < 2 (scipy refuses 2 in both)."""
+        if isinstance(value, tuple):
+            low, high = value
+            if not (math.isfinite(low) and math.isfinite(high) and 0 <= low < high < 2):
+                raise PydanticCustomError("de_mutation", "[{low}, {high}] is not a dither range: give [min, max] with "
+                                          "0 <= min < max < 2 (or one number 0 <= F < 2)",
+                                          {"low": _plain(low), "high": _plain(high)})
+        elif not (math.isfinite(value) and 0 <= value < 2):
+            raise PydanticCustomError("de_mutation", "{value} is outside [0, 2): give a number 0 <= F < 2, or a "
+                                      "dither range [min, max] with 0 <= min < max < 2", {"value": _plain(value)})
+        return value
+
+    @field_validator("strategy")
+    @classmethod
+    def _strategy(cls, value):
+        if value not in DE_STRATEGIES:
+            raise PydanticCustomError("de_strategy", "unknown strategy '{value}' (strategies: {known})",
+                                      {"value": value, "known": ", ".join(DE_STRATEGIES)})
+        return value
+
+
+def _plain(number: float) -> str:
+    """A number as the job likely wrote it: 2 rather than 2.0."""
+    return f"{number:g}"
 
 
 METHODS = {"complex": ComplexSpec, "nelder_mead": NelderMeadSpec, "differential_evolution": DESpec}
@@ -649,6 +696,15 @@ class _Resolver:
         if isinstance(spec, NelderMeadSpec):
             self.start = spec.start
             return "nelder_mead", NelderMeadSettings(spec.max_evaluations, spec.xatol, spec.fatol, None, spec.adaptive)
+        # scipy makes a generation of 5 at least (the budget, counted in popsize * n, would be wrong), and its
+        # rand2 strategies draw 5 designs besides the one they mutate (with 5 in all: a ValueError inside scipy)
+        fewest = 6 if spec.strategy.startswith("rand2") else 5
+        if spec.popsize * n < fewest:
+            needs = f"{fewest} at least" + (f" with strategy {spec.strategy}" if fewest == 6 else "")
+            raise self.error(("algorithm", "popsize") if "popsize" in m.algorithm else ("algorithm",),
+                             f"algorithm.popsize: popsize * n = {spec.popsize * n} designs a generation for {n} free "
+                             f"parameter{'s' if n > 1 else ''}; differential evolution needs {needs} "
+                             f"(popsize: {-(-fewest // n)} or more)")
         if spec.max_evaluations < spec.popsize * n:
             raise self.error(("algorithm", "max_evaluations"), f"algorithm.max_evaluations: {spec.max_evaluations} "
                              f"is fewer than one generation (popsize * n = {spec.popsize * n})")
