@@ -397,11 +397,14 @@ def _progress_printer(silent: bool):
 
 
 def _say(message) -> None:
-    """An error on stderr, on a line of its own (after a progress line the failure interrupted)."""
+    """An error on stderr, on a line of its own (after a progress line the failure interrupted); a long
+    value it quotes is cut short (:func:`blocks.errors.shorten_values`: an --set value, an argument)."""
+    from blocks.errors import shorten_values
+
     if _PROGRESS_LINE["open"]:
         print(file=sys.stderr)
         _PROGRESS_LINE["open"] = False
-    print(message, file=sys.stderr)
+    print(shorten_values(str(message)), file=sys.stderr)
 
 
 def cmd_blocks(args) -> int:

@@ -396,7 +396,8 @@ def file_format() -> str:
         "subsystem's name (`bridge.valve`, `bridge.A`, `bridge.m_load`); its `ports:` section says which of "
         "its nets or ports the outer file may connect (`P: P` exposes net `P` as `bridge.P`). Nets merged "
         "through an exposed port add their volumes; an outer `initial` wins. A file may not include itself, "
-        "and nesting is limited in depth.",
+        "and nesting is limited in depth. A subsystem file's own `simulation:` section (for when it is run "
+        "alone) is not used where it is a part, but is checked there as well.",
         "",
         "### Outputs",
         "",
@@ -404,7 +405,9 @@ def file_format() -> str:
         "With no `outputs:` section every net's across variable is logged under the net's name (pressures "
         "in bar); `vphs run` writes the logged signals to CSV (header `t [s]`, then `name [unit]` for each) "
         "and, with `--plot`, a PNG. An output's name is its column's name, read back by `vphs diff`: "
-        "it may not be `t` (the time column), have spaces around it or contain `[` or `]`.",
+        "it may not be `t` (the time column), have spaces around it, or contain `[`, `]`, `,` or a tab. "
+        "No name in a netlist (of a component, net, parameter, subsystem or output) may have spaces "
+        "around it.",
         "",
         "### Simulation",
         "",

@@ -56,7 +56,10 @@ class Expression:
             if self.text in str(exc):
                 raise
             raise ExpressionError(f"'{self.text}': {exc}") from None
-        except (ZeroDivisionError, OverflowError, ValueError, TypeError) as exc:
+        except OverflowError:  # its own text is "(34, 'Numerical result out of range')" or "math range error"
+            raise ExpressionError(f"'{self.text}' overflows: its value is too large for a number (the largest "
+                                  f"is about 1.8e308)") from None
+        except (ZeroDivisionError, ValueError, TypeError) as exc:
             raise ExpressionError(f"cannot evaluate '{self.text}': {exc}") from None
 
 

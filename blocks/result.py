@@ -28,7 +28,8 @@ def column_name_problem(name: str) -> str | None:
     The CSV is read back by :func:`blocks.datafile.read_table` (``vphs diff``), which
     takes a header cell's name up to its ``[unit]`` and strips the spaces around it: a logged signal named
     ``t`` would be a second time column, one with brackets would not read as ``name [unit]``, one with
-    spaces around it (or nothing but spaces) would read as another name."""
+    spaces around it (or nothing but spaces) would read as another name, and one with a comma would be
+    split into two columns by a reader that does not honour the CSV's quotes (a spreadsheet's import)."""
     if name == TIME_COLUMN:
         return f"'{TIME_COLUMN}' is the name of the time column"
     if not name.strip():
@@ -37,6 +38,8 @@ def column_name_problem(name: str) -> str | None:
         return "spaces around a column name are dropped when the CSV is read"
     if "[" in name or "]" in name:
         return "'[' and ']' enclose a column's unit"
+    if "," in name:
+        return "',' separates the CSV's columns"
     if not name.isprintable():
         return "a column name must be printable characters"
     return None

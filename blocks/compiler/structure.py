@@ -241,6 +241,7 @@ def _theta_layout(st: Structure) -> None:
     """Every parameter-table entry the equations read gets a slice of theta."""
     entries = st.circuit.parameters.entries
     values = st.circuit.parameters.evaluate()  # also checks every default once
+    st.circuit.parameters.check_unread(values)  # and what no value reads (a defaults: volume: no net takes)
     names = ["fluid.beta"] + (["fluid.vapour_pressure"] if cavitation(st) or entrained_air(st) else [])
     names += ["fluid.air", "fluid.air_index"] if entrained_air(st) else []
     for name, comp in st.circuit.components.items():

@@ -15,6 +15,7 @@ while ``J: "0.085 + m_load*r**2/n**2"`` with a free ``n`` and ``0.085`` is accep
 from __future__ import annotations
 
 import ast
+import math
 import re
 from dataclasses import dataclass, field
 
@@ -80,6 +81,9 @@ class ParameterTable:
     entries: dict[str, Entry] = field(default_factory=dict)
     _order: list[str] | None = None
     _dims: dict[str, Unit | None] = field(default_factory=dict)  # each name's dimension (order(); FREE: a number)
+    unread: list[Entry] = field(default_factory=list)
+    """Values written that no other value reads and that are not parameters themselves (a file's ``defaults:
+    volume:`` that no net takes): checked as entries are (:meth:`check_unread`), never evaluated for use."""
 
     def add(self, entry: Entry) -> None:
         if entry.name in self.entries:
@@ -93,17 +97,7 @@ class ParameterTable:
             graph = nx.DiGraph()
             graph.add_nodes_from(self.entries)
             for entry in self.entries.values():
-                for local in entry.dependencies():
-                    target = entry.scope.get(local)
-                    if target is None or target not in self.entries:
-                        near = [n for n in entry.scope if entry.scope[n] in self.entries]
-                        hint = nearest(local, near)
-                        raise entry.error(f"unknown parameter '{local}' in {entry.name}"
-                                          + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
-                    read = self.entries[target]
-                    if read.elements is not None or isinstance(read.constant, tuple):
-                        raise entry.error(f"{entry.name}: '{local}' is a list of values; an expression reads "
-                                          f"one value")
+                for target in self._read_by(entry):
                     graph.add_edge(target, entry.name)
             try:
                 cycle = nx.find_cycle(graph)
@@ -118,26 +112,56 @@ class ParameterTable:
             self._order = order
         return self._order
 
+    def _read_by(self, entry: Entry) -> list[str]:
+        """The names ``entry`` reads; errors for an unknown name and for a list read as one value."""
+        found = []
+        for local in entry.dependencies():
+            target = entry.scope.get(local)
+            if target is None or target not in self.entries:
+                near = [n for n in entry.scope if entry.scope[n] in self.entries]
+                hint = nearest(local, near)
+                raise entry.error(f"unknown parameter '{local}' in {entry.name}"
+                                  + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+            read = self.entries[target]
+            if read.elements is not None or isinstance(read.constant, tuple):
+                raise entry.error(f"{entry.name}: '{local}' is a list of values; an expression reads "
+                                  f"one value")
+            found.append(target)
+        return found
+
     def _check_dimensions(self, order: list[str]) -> None:
         inferred: dict[str, Unit | None] = {}
         for name in order:
-            entry = self.entries[name]
-            dims = entry.dims
-            if entry.expression is not None:
-                try:
-                    dims = _infer(entry.expression.tree, entry, inferred)
-                except UnitError as exc:
-                    raise entry.error(f"{entry.name}: wrong unit: '{entry.written}' {exc}") from None
-                if entry.unit is not None and entry.unit != GENERIC and dims is not FREE:
-                    declared = parse_unit(entry.unit)
-                    if not dims.same_dimension(declared):
-                        raise entry.error(f"{entry.name}: wrong unit: '{entry.written}' is in "
-                                          f"{dims.describe_dims()}, expected {entry.unit}"
-                                          + self._written_elsewhere(entry))
-                    dims = declared
-            generic = entry.unit is None or entry.unit == GENERIC
-            inferred[name] = dims if generic else (parse_unit(entry.unit) if dims is not FREE else FREE)
+            inferred[name] = self._dimension_of(self.entries[name], inferred)
         self._dims = inferred
+
+    def _dimension_of(self, entry: Entry, inferred: dict[str, Unit | None]) -> Unit | None:
+        """The dimension of ``entry`` given those of the names it reads; an error if it does not fit its
+        declared unit."""
+        dims = entry.dims
+        if entry.expression is not None:
+            try:
+                dims = _infer(entry.expression.tree, entry, inferred)
+            except UnitError as exc:
+                raise entry.error(f"{entry.name}: wrong unit: '{entry.written}' {exc}") from None
+            if entry.unit is not None and entry.unit != GENERIC and dims is not FREE:
+                declared = parse_unit(entry.unit)
+                if not dims.same_dimension(declared):
+                    raise entry.error(f"{entry.name}: wrong unit: '{entry.written}' is in "
+                                      f"{dims.describe_dims()}, expected {entry.unit}"
+                                      + self._written_elsewhere(entry))
+                dims = declared
+        generic = entry.unit is None or entry.unit == GENERIC
+        return dims if generic else (parse_unit(entry.unit) if dims is not FREE else FREE)
+
+    def check_unread(self, values: dict[str, float | tuple]) -> None:
+        """Check each :attr:`unread` entry as if it were read: the names it reads, its dimension, its value
+        and its bounds; ``values`` are the table's (:meth:`evaluate`)."""
+        self.order()
+        for entry in self.unread:
+            self._read_by(entry)
+            self._dimension_of(entry, self._dims)
+            self._value(entry, values)
 
     def dimension(self, name: str) -> Unit | None:
         """The dimension the netlist gives ``name``, None where it does not say.
@@ -267,25 +291,34 @@ class ParameterTable:
                         raise ParameterError(f"override {name}: {problem}")
                 values[name] = value
                 continue
-            if entry.expression is not None or entry.elements is not None:
-                local = {n: values[entry.scope[n]] for n in entry.dependencies()}  # order() checked the scope
-                local.update({k: v for k, (v, _, _) in entry.literals.items()})
-                try:
-                    if entry.elements is not None:
-                        value = tuple(item.evaluate(local) if isinstance(item, Expression) else item
-                                      for item in entry.elements)
-                    else:
-                        value = entry.expression.evaluate(local)
-                except ExpressionError as exc:
-                    raise entry.error(f"{entry.name}: {as_written(str(exc), entry.literals)}") from None
-            else:
-                value = entry.constant
-            if entry.bounds is not None:
-                problem = entry.bounds.check(value)
-                if problem:
-                    raise entry.error(f"{entry.name.rsplit('.', 1)[0]}: {problem}")
-            values[name] = value
+            values[name] = self._value(entry, values)
         return values
+
+    @staticmethod
+    def _value(entry: Entry, values: dict[str, float | tuple]) -> float | tuple:
+        """The value of ``entry`` in SI from the ``values`` of the names it reads, its bounds checked; one
+        without bounds (a net's or a state's initial value, a netlist parameter) must be finite."""
+        if entry.expression is not None or entry.elements is not None:
+            local = {n: values[entry.scope[n]] for n in entry.dependencies()}  # order() checked the scope
+            local.update({k: v for k, (v, _, _) in entry.literals.items()})
+            try:
+                if entry.elements is not None:
+                    value = tuple(item.evaluate(local) if isinstance(item, Expression) else item
+                                  for item in entry.elements)
+                else:
+                    value = entry.expression.evaluate(local)
+            except ExpressionError as exc:
+                raise entry.error(f"{entry.name}: {as_written(str(exc), entry.literals)}") from None
+        else:
+            value = entry.constant
+        if entry.bounds is not None:
+            problem = entry.bounds.check(value)
+            if problem:
+                raise entry.error(f"{entry.name.rsplit('.', 1)[0]}: {problem}")
+        elif not all(math.isfinite(v) for v in (value if isinstance(value, tuple) else (value,))):
+            written = f" ('{entry.raw}')" if isinstance(entry.raw, str) else ""
+            raise entry.error(f"{entry.name} = {value}{written} is not finite")
+        return value
 
 
 def as_written(message: str, literals: dict) -> str:

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 from typing import Annotated, Literal, Union
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, StrictBool
 from pydantic_core import PydanticCustomError
 
 NOT_A_NUMBER = "not_a_number"
@@ -64,7 +64,7 @@ class Fluid(Strict):
     nu: Value = "1.8e-5 m^2/s"
     beta: Value = "8e8 Pa"
     vapour_pressure: Value = Field("-1 bar", description="gauge; a node below it is reported as cavitating")
-    cavitation: bool = Field(True, description="a net drawn below the vapour pressure holds a vapour cavity")
+    cavitation: StrictBool = Field(True, description="a net drawn below the vapour pressure holds a vapour cavity")
     air: Value | None = Field(None, description="free air entrained in the oil, volume fraction at atmospheric "
                                                 "pressure (absent: the pure liquid)")
     air_index: Value = Field(1.0, description="polytropic index of the entrained air: 1 isothermal, 1.4 adiabatic")

@@ -163,7 +163,8 @@ def document_path(data, loc, known_fields=None) -> tuple:
     """The part of a pydantic error location that indexes into the document (union tags dropped).
 
     A last key that is not in the document (missing, or unknown) is kept when it is a field name: one of
-    ``known_fields`` if given, else any lower-case name that is not a pydantic type tag."""
+    ``known_fields`` if given, else any lower-case identifier that is not a pydantic type tag (not
+    ``function-before[_no_boolean(), ...]``)."""
     path, node = [], data
     for item in loc:
         if isinstance(node, dict) and item in node:
@@ -174,7 +175,7 @@ def document_path(data, loc, known_fields=None) -> tuple:
             node = node[item]
         elif isinstance(node, dict) and isinstance(item, str) and item not in node and (
                 item in known_fields if known_fields is not None
-                else item[:1].islower() and item not in _PYDANTIC_TAGS):
+                else item[:1].islower() and item.isidentifier() and item not in _PYDANTIC_TAGS):
             path.append(item)  # a key that should be there (missing) or is unknown
             break
     return tuple(path)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, replace
 
 from blocks.units import UnitError, quantity
@@ -40,20 +41,32 @@ class SolverSettings:
 
 
 def read_settings(flat) -> SolverSettings:
-    sim = flat.netlist.simulation
-    located = flat.source
+    return settings_of(flat.netlist.simulation, flat.source)
+
+
+def settings_of(sim, located) -> SolverSettings:
+    """The settings a netlist's ``simulation:`` section (``sim``, a spec.Simulation) gives, checked; errors
+    placed in ``located`` (the file the section is in). A time written is finite; a ``fixed_step`` or
+    ``max_step`` written is positive (left out, there is none)."""
 
     def seconds(key: str, raw) -> float:
         try:
-            return quantity(raw, "s")
+            value = quantity(raw, "s")
         except UnitError as exc:
             raise located.error(("simulation", key), f"simulation.{key}: {exc}") from None
+        if not math.isfinite(value):
+            raise located.error(("simulation", key), f"simulation.{key}: {raw} is not finite")
+        return value
 
     t_start, t_end, dt_out = seconds("t_start", sim.t_start), seconds("t_end", sim.t_end), seconds("dt_out", sim.dt_out)
     fixed = seconds("fixed_step", sim.fixed_step) if sim.fixed_step is not None else 0.0
     max_step = seconds("max_step", sim.max_step) if sim.max_step is not None else 0.0
     settings = SolverSettings(t_start, t_end, dt_out, sim.solver, sim.rtol, sim.atol, fixed, max_step, sim.max_steps)
     problem = settings.problem()
+    if problem is None and sim.max_step is not None and not max_step > 0:  # 0 would mean none: write none
+        problem = "max_step", "must be positive (or left out)"
+    if problem is None and sim.fixed_step is not None and not fixed > 0:
+        problem = "fixed_step", "must be positive (or left out)"
     if problem:
         key, message = problem
         raise located.error(("simulation", key), f"simulation.{key}: {message}")
