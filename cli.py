@@ -214,10 +214,11 @@ def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] |
         written[name] = raw
         if name not in entries:
             raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
-                                + _unknown_parameter_hint(name, entries, setting_options or {}))
-        if name == "fluid.cavitation_pressure":
-            raise ArgumentError(f"vphs: --set '{pair}': {name} follows fluid.vapour_pressure (and the netlist's "
-                                f"fluid: {{cavitation:}}); set fluid.vapour_pressure")
+                                + _unknown_parameter_hint(name, entries, setting_options or {},
+                                                          circuit.flat.parameters.derived))
+        derived = circuit.flat.parameters.derived
+        if name in derived:
+            raise ArgumentError(f"vphs: --set '{pair}': {name} is derived from {derived[name]}: set that instead")
         entry = entries[name]
         try:  # value_si refuses an array, a unit the netlist contradicts and a value that is not finite
             overrides[name] = circuit.flat.parameters.value_si(name, raw)
@@ -230,7 +231,7 @@ def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] |
     return overrides
 
 
-def _unknown_parameter_hint(name: str, entries, setting_options: dict[str, str]) -> str:
+def _unknown_parameter_hint(name: str, entries, setting_options: dict[str, str], derived=()) -> str:
     """' (did you mean ...?)', or for a simulation setting where it is set instead; '' if nothing fits."""
     from blocks.netlist.spec import Simulation
     from blocks.units import nearest
@@ -242,7 +243,7 @@ def _unknown_parameter_hint(name: str, entries, setting_options: dict[str, str])
                 f" ({setting} is a simulation setting: change it in the netlist's simulation: section)")
     if name == "fluid.cavitation":
         return " (fluid cavitation is a switch of the netlist's fluid: section, not a parameter)"
-    hint = [n for n in nearest(name, entries) if n != "fluid.cavitation_pressure"]
+    hint = [n for n in nearest(name, entries) if n not in derived]  # a derived entry is not set
     return f" (did you mean {', '.join(hint)}?)" if hint else ""
 
 
@@ -715,7 +716,7 @@ def _linear_inputs(written: list[str], circuit) -> tuple[list[str], list[str]]:
         name, unit = (match.group(1), match.group(2).strip()) if match else (text.strip(), None)
         if name not in entries:
             raise ArgumentError(f"vphs: --input '{text}': unknown parameter '{name}'"
-                                + _unknown_parameter_hint(name, entries, {}))
+                                + _unknown_parameter_hint(name, entries, {}, circuit.flat.parameters.derived))
         if name in names:
             raise ArgumentError(f"vphs: --input '{text}': '{name}' is named twice")
         if entries[name].elements is not None or isinstance(entries[name].constant, tuple):

@@ -311,6 +311,9 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             hint = nearest(name, entries)
             raise located.error(path, f"unknown parameter '{name}' in {spec.netlist}"
                                 + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+        if name in circuit.flat.parameters.derived:
+            raise located.error(path, f"'{name}' is derived from {circuit.flat.parameters.derived[name]}: "
+                                      f"use that instead")
         return name
 
     def si(name: str, raw, path: tuple) -> float:

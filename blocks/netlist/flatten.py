@@ -350,6 +350,8 @@ class _Builder:
             self.table.add(make_entry("fluid.cavitation_pressure", raw, "Pa", names, located,
                                       ("fluid", "cavitation"), CAVITATION_PRESSURE))
             names["fluid_cavitation_pressure"] = "fluid.cavitation_pressure"
+            self.table.derived["fluid.cavitation_pressure"] = ("fluid.vapour_pressure (and the netlist's fluid: "
+                                                               "{cavitation:})")
         return names
 
     def add_netlist(self, netlist: spec.Netlist, located: Located, prefix: str, overrides: dict,

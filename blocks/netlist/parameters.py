@@ -84,6 +84,9 @@ class ParameterTable:
     unread: list[Entry] = field(default_factory=list)
     """Values written that no other value reads and that are not parameters themselves (a file's ``defaults:
     volume:`` that no net takes): checked as entries are (:meth:`check_unread`), never evaluated for use."""
+    derived: dict[str, str] = field(default_factory=dict)
+    """Entries the netlist does not write but derives from others (name -> what to set instead): not set
+    on their own (``--set``, an optimiser's or a calibration's free parameter)."""
 
     def add(self, entry: Entry) -> None:
         if entry.name in self.entries:

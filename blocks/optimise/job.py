@@ -523,6 +523,8 @@ class _Resolver:
                              + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
         if entry.elements is not None or isinstance(entry.constant, tuple):
             raise self.error(path, f"'{name}' is an array parameter; only single values can be set or varied")
+        if name in self.table.derived:
+            raise self.error(path, f"'{name}' is derived from {self.table.derived[name]}: set or vary that instead")
         return entry
 
     def si_unit(self, name: str) -> str:

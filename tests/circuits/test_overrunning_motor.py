@@ -6,6 +6,8 @@ growing without end); the motors shared the flaw, and a crane's load braked on o
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -89,7 +91,20 @@ def test_the_derived_cavitation_pressure_is_not_set_on_its_own(tmp_path, capsys)
     (tmp_path / "overrun.yaml").write_text(netlist)
     base = ["run", str(tmp_path / "overrun.yaml"), "-q", "-o", str(tmp_path / "r.csv"), "--set"]
     assert cli.main(base + ["fluid.cavitation_pressure=-2 bar"]) == 2
-    assert "follows fluid.vapour_pressure" in capsys.readouterr().err
+    assert "is derived from fluid.vapour_pressure" in capsys.readouterr().err
     assert cli.main(base + ["fluid.cavitation=false"]) == 2
     assert "a switch of the netlist's fluid: section" in capsys.readouterr().err
     assert not (tmp_path / "r.csv").exists()
+
+
+def test_nor_is_it_an_optimiser_s_parameter(tmp_path):
+    from blocks.errors import NetlistError
+    from blocks.optimise.job import load_job
+
+    netlist = Path(__file__).resolve().parents[2] / "netlists" / "opt" / "drive_line.yaml"
+    (tmp_path / "job.yaml").write_text(
+        f"netlist: {netlist}\nparameters:\n  fluid.cavitation_pressure: {{min: -1e5, max: 0}}\n"
+        f"cost:\n  terms:\n    pos: {{kind: ise, signal: x, reference: x_ref, unit: mm}}\n"
+        f"algorithm: {{method: complex, max_evaluations: 10}}\noutput: {tmp_path / 'out'}\n")
+    with pytest.raises(NetlistError, match="'fluid.cavitation_pressure' is derived from fluid.vapour_pressure"):
+        load_job(tmp_path / "job.yaml")
