@@ -188,7 +188,7 @@ def cmd_validate(args) -> int:
     from blocks.circuit import Circuit
 
     circuit = Circuit.from_file(args.netlist, compile=False)
-    circuit.vectors()
+    circuit.check_inertia()
     st = circuit.structure
     print(f"{args.netlist}: ok: {len(circuit.flat.components)} components, {len(circuit.flat.nets)} nets, "
           f"{st.n_states} states, {st.theta_size} parameters")
@@ -315,7 +315,7 @@ def cmd_run(args) -> int:
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
     _check_plot_signals(args, [o.name for o in circuit.outputs])
     overrides = parse_overrides(args.set, circuit, RUN_SETTING_OPTIONS)  # before the (possibly slow) compilation
-    circuit.vectors(overrides)
+    circuit.check_inertia(overrides)
     settings = circuit.settings
     if args.solver:
         settings = settings.with_(solver=args.solver)

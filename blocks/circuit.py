@@ -282,12 +282,18 @@ class Circuit:
         return msg
 
     def _no_inertia(self, slot, vec: Vectors) -> str:
-        """'' or what says a rigid body's speed had nothing to accelerate: every block storing on the body
-        (an inertia, a mass, a motor's rotating group) declares its inertia or mass as a parameter and all
-        of them are 0, so dw/dt = sum(tau)/0. Said only when that is certain."""
+        """'' or what says a rigid body's speed had nothing to accelerate (:meth:`_inertia_holders`)."""
         body = self.structure.body_of.get(slot.owner) if slot.kind == "speed" else None
         if body is None or body.state is not slot:
             return ""
+        holders = self._inertia_holders(body, vec)
+        return (f"; nothing on it has inertia ({', '.join(f'{name} = 0' for name in holders)}): a rigid body "
+                f"needs a mass or an inertia") if holders else ""
+
+    def _inertia_holders(self, body, vec: Vectors) -> list[str]:
+        """The parameters holding a rigid body's inertia when every one of them is 0, so that dw/dt =
+        sum(tau)/0; else []. Every block storing on the body (an inertia, a mass, a motor's rotating group)
+        must declare its inertia or mass as a parameter: said only when that is certain."""
         holders = []
         for net in body.members:
             for comp, port in self.flat.nets[net].ports:
@@ -296,12 +302,20 @@ class Circuit:
                     continue
                 found = [f"{comp}.{p.name}" for p in cls.params if p.unit in ("kg", "kg*m^2")]
                 if not found:
-                    return ""  # a capacity computed some other way: not certain
+                    return []  # a capacity computed some other way: not certain
                 holders += found
-        if not holders or any(vec.values[name] != 0.0 for name in holders):
-            return ""
-        return (f"; nothing on it has inertia ({', '.join(f'{name} = 0' for name in holders)}): a rigid body "
-                f"needs a mass or an inertia")
+        return holders if holders and all(vec.values[name] == 0.0 for name in holders) else []
+
+    def check_inertia(self, overrides: dict[str, float] | None = None) -> None:
+        """Raise the netlist's error, at the first of its parameters, for a rigid body with nothing to
+        accelerate (every mass and inertia on it 0): bad input, said before any run."""
+        vec = self.vectors(overrides)
+        for body in self.structure.bodies:
+            holders = self._inertia_holders(body, vec) if body.state is not None else []
+            if holders:
+                raise self.flat.parameters.entries[holders[0]].error(
+                    f"{', '.join(f'{name} = 0' for name in holders)}: nothing on the rigid body "
+                    f"{', '.join(sorted(body.members))} has inertia, and it needs a mass or an inertia")
 
     def _owners(self, slot) -> str:
         if slot.kind == "block":
