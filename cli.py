@@ -366,13 +366,8 @@ def _check_plot_signals(args, logged: list[str]) -> None:
     chosen = ([args.x] if args.x else []) + args.y
     if chosen and not args.plot:
         raise ArgumentError(f"vphs: {'--x' if args.x else '--y'} chooses what --plot draws: give --plot FILE too")
-    for option, name in [("--x", args.x)] * bool(args.x) + [("--y", name) for name in args.y]:
-        if name not in logged:
-            raise ArgumentError(f"vphs: {option} '{name}': not a logged signal of {args.netlist} "
-                                f"(logged: {', '.join(logged)})")
-    twice = _named_twice(args.y)
-    if twice:
-        raise ArgumentError(f"vphs: --y '{twice}': named twice")
+    _check_signals("--x", [args.x] if args.x else [], logged, args.netlist)
+    _check_signals("--y", args.y, logged, args.netlist)
     if args.x and args.y == [args.x]:
         raise ArgumentError(f"vphs: --x and --y name only '{args.x}': nothing to plot against it")
 
@@ -593,13 +588,7 @@ def cmd_linearise(args) -> int:
     circuit.vectors(overrides)
     inputs, in_units = _linear_inputs(args.input, circuit)
     logged = {o.name: o for o in circuit.outputs}
-    for name in args.output:
-        if name not in logged:
-            raise ArgumentError(f"vphs: --output '{name}': not a logged signal of {args.netlist} "
-                                f"(logged: {', '.join(logged)})")
-    twice = _named_twice(args.output)
-    if twice:
-        raise ArgumentError(f"vphs: --output '{twice}': named twice")
+    _check_signals("--output", args.output, logged, args.netlist)
     at = None
     if args.at is not None:
         from blocks.units import UnitError, quantity
@@ -664,14 +653,16 @@ def cmd_linearise(args) -> int:
     return 0
 
 
-def _named_twice(names: list[str]) -> str | None:
-    """The first name given twice, or None."""
+def _check_signals(option: str, names: list[str], logged, netlist: str) -> None:
+    """Each of ``names`` (given with ``option``) a logged signal of the netlist, and none named twice."""
     seen = set()
     for name in names:
+        if name not in logged:
+            raise ArgumentError(f"vphs: {option} '{name}': not a logged signal of {netlist} "
+                                f"(logged: {', '.join(logged)})")
         if name in seen:
-            return name
+            raise ArgumentError(f"vphs: {option} '{name}': named twice")
         seen.add(name)
-    return None
 
 
 MAX_RESPONSE_POINTS = 100_000  # frequencies of a response: a Bode plot needs hundreds; 1e9 would fill the memory
