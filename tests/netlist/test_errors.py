@@ -455,7 +455,7 @@ def test_a_misspelt_required_key_is_named_as_the_unknown_key(tmp_path):
     "missing 'type'", leaving the reader to find the misspelling (a usability review, on a subsystem's
     'netlst:')."""
     from blocks.errors import NetlistError
-    from blocks.netlist.flatten import load_netlist
+    from blocks.netlist.shape import load_netlist
 
     (tmp_path / "net.yaml").write_text("components:\n  pump: {tpye: flow_source}\n")
     with pytest.raises(NetlistError, match=r"net\.yaml:2:10: components\.pump\.tpye: unknown key 'tpye' "
