@@ -626,8 +626,8 @@ def cmd_linearise(args) -> int:
         for line in report.steady_gain_lines(model, *steady_gain(model), out_units, in_units):
             print(line)
     for name in [n for k, n in enumerate(inputs) if not model.B[:, k].any() and not model.D[:, k].any()]:
-        print(f"vphs: warning: --input {name} moves nothing at this operating point (it sets an initial value, "
-              f"or acts only elsewhere in time?)", file=sys.stderr)
+        print(f"vphs: warning: --input {name} moves nothing at this operating point (to first order: it sets "
+              f"an initial value, acts only elsewhere in time, or is a mass with no net force on it?)", file=sys.stderr)
     writes = []
     if args.modes:
         text = report.modes_csv(found)

@@ -95,14 +95,27 @@ def response_csv(frequencies: np.ndarray, shown: np.ndarray, model: LinearModel,
         for inp, iu in zip(model.input_names, in_units):
             header += [f"|{out}/{inp}| [{ratio_unit(ou, iu)}]", f"phase {out}/{inp} [deg]"]
     writer.writerow(header)
-    phases = np.degrees(np.unwrap(np.angle(shown), axis=0))
+    phases = phases_deg(shown)
     for i, f in enumerate(frequencies):
         row = [f"{f:.8g}"]
         for a in range(shown.shape[1]):
             for b in range(shown.shape[2]):
-                row += [f"{abs(shown[i, a, b]):.10g}", f"{phases[i, a, b]:.8g}"]
+                phase = phases[i, a, b]
+                row += [f"{abs(shown[i, a, b]):.10g}", f"{phase:.8g}" if math.isfinite(phase) else ""]
         writer.writerow(row)
     return buffer.getvalue()
+
+
+def phases_deg(shown: np.ndarray) -> np.ndarray:
+    """The phase of each response [deg], unwrapped along the frequencies; NaN where the response is 0 (a
+    zero has no phase), the unwrapping carried across it."""
+    zero = shown == 0
+    angle = np.angle(shown)
+    for i in range(1, angle.shape[0]):  # a zero takes the angle before it, so it breaks no unwrapping
+        angle[i] = np.where(zero[i], angle[i - 1], angle[i])
+    phases = np.degrees(np.unwrap(angle, axis=0))
+    phases[zero] = np.nan
+    return phases
 
 
 def steady_gain_lines(model: LinearModel, gain: np.ndarray, why: np.ndarray, out_units, in_units) -> list[str]:
@@ -126,19 +139,21 @@ def steady_gain_lines(model: LinearModel, gain: np.ndarray, why: np.ndarray, out
 def bode_plot(path, frequencies, shown, model: LinearModel, out_units, in_units, found: list[Mode],
               reached: np.ndarray) -> None:
     """Write to ``path`` (its suffix gives the format): magnitude (log) and phase against frequency, one
-    line per output/input pair that the input reaches (``reached``); dotted lines at the natural
-    frequencies of the lightly damped modes (zeta < 0.7) in range."""
+    line per output/input pair that the input reaches (``reached``) and whose response is not 0 throughout;
+    dotted lines at the natural frequencies of the lightly damped modes (zeta < 0.7) in range."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, (mag, phase) = plt.subplots(2, 1, sharex=True, figsize=(9, 6.5), layout="constrained")
-    phases = np.degrees(np.unwrap(np.angle(shown), axis=0))
+    phases = phases_deg(shown)
+    drawn = False
     for a, (out, ou) in enumerate(zip(model.output_names, out_units)):
         for b, (inp, iu) in enumerate(zip(model.input_names, in_units)):
-            if not reached[a, b]:
+            if not reached[a, b] or not shown[:, a, b].any():
                 continue
+            drawn = True
             label = f"{out}/{inp} [{ratio_unit(ou, iu)}]"
             magnitude = np.abs(shown[:, a, b])
             mag.loglog(frequencies, np.where(magnitude > 0.0, magnitude, np.nan), label=label)  # 0: no point
@@ -152,7 +167,7 @@ def bode_plot(path, frequencies, shown, model: LinearModel, out_units, in_units,
     phase.set_xlabel("f [Hz]")
     for ax in (mag, phase):
         ax.grid(True, which="both", alpha=0.3)
-    if reached.any():
+    if drawn:
         mag.legend(loc="best", fontsize="small")
     else:
         mag.text(0.5, 0.5, "no input reaches an output here", transform=mag.transAxes, ha="center")

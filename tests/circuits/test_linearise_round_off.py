@@ -1,0 +1,87 @@
+"""What is zero in a linear model is said as 0, and what is small but real is kept (blocks/linearise.py).
+
+tests/circuits/netlists/linear_symmetric.yaml: a servo of a symmetric cylinder at rest, each chamber at p_s/2
+with no net force on the load, and beside it two equal second-order low-passes in series. By symmetry a
+supply pressure change raises both chambers by half of it and moves nothing else; a load mass with no net
+force on it moves nothing to first order. The cascade's response is (wn^2/(s^2 + 2*zeta*wn*s + wn^2))^2:
+its steady gain 1, and 1e-12 at 10 kHz. Every expected value here is one of those closed forms.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from functools import lru_cache
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import cli
+from blocks.circuit import Circuit
+from blocks.linearise import GAIN_UNCOUPLED, frequency_response, linearise, operating_point, steady_gain
+
+NETLIST = Path(__file__).parent / "netlists" / "linear_symmetric.yaml"
+WN, ZETA = 2 * math.pi * 10.0, 0.7
+INPUTS = ["m_load", "p_s", "u0"]
+
+
+@lru_cache(maxsize=None)
+def model():
+    circuit = Circuit.from_file(NETLIST)
+    point = operating_point(circuit, {}, circuit.settings, None, equilibrium=True)
+    return linearise(circuit, point, INPUTS)
+
+
+def index(name: str) -> int:
+    return model().output_names.index(name)
+
+
+def test_a_mass_with_no_net_force_on_it_moves_nothing_to_first_order():
+    # d(F/m)/dm = -F/m^2 = 0 at F = 0: the differences gave 4.6e-37 (m/s^2)/kg, and 2e-37 bar/kg followed
+    m = model()
+    assert not m.B[:, INPUTS.index("m_load")].any()
+    gain, why = steady_gain(m)
+    assert (gain[:, INPUTS.index("m_load")] == 0.0).all()
+    assert (why[:, INPUTS.index("m_load")] == GAIN_UNCOUPLED).all()
+
+
+def test_the_supply_raises_both_chambers_by_half_and_moves_nothing_else():
+    gain, why = steady_gain(model())
+    p_s = INPUTS.index("p_s")
+    assert gain[index("pA"), p_s] == pytest.approx(0.5, rel=1e-6)
+    assert gain[index("pB"), p_s] == pytest.approx(0.5, rel=1e-6)
+    for name in ("v", "x", "spool"):
+        assert gain[index(name), p_s] == 0.0 and why[index(name), p_s] == ""
+    response = frequency_response(model(), np.logspace(-1, 3, 60))
+    for name in ("v", "x", "spool"):
+        assert not response[:, index(name), p_s].any(), name  # 1e-25 mm/Pa at a random phase before
+    assert np.abs(response[:, index("pA"), p_s]).min() > 0.0
+
+
+def test_two_equal_filters_in_series_keep_their_gain_and_their_steep_roll_off():
+    # the modal sum over their nearly parallel eigenvectors gave -0.77 for the gain of 1
+    gain, why = steady_gain(model())
+    assert gain[index("y"), INPUTS.index("u0")] == pytest.approx(1.0, rel=1e-7)
+    freqs = np.logspace(-1, 4, 41)
+    s = 2j * math.pi * freqs
+    expected = (WN**2 / (s**2 + 2 * ZETA * WN * s + WN**2)) ** 2
+    assert abs(expected[-1]) < 2e-12
+    response = frequency_response(model(), freqs)[:, index("y"), INPUTS.index("u0")]
+    np.testing.assert_allclose(response, expected, rtol=1e-6)
+
+
+def test_the_response_file_leaves_the_phase_of_a_zero_blank(tmp_path, capsys):
+    out = tmp_path / "response.csv"
+    code = cli.main(["linearise", str(NETLIST), "--equilibrium", "--input", "p_s", "--input", "m_load",
+                     "--output", "pA", "--output", "x", "--response", str(out), "--plot", str(tmp_path / "b.png"),
+                     "--points", "20"])
+    _, err = capsys.readouterr()
+    assert code == 0, err
+    assert "--input m_load moves nothing" in err and "a mass with no net force on it" in err
+    rows = list(csv.reader(out.read_text().splitlines()))
+    header, body = rows[0], rows[1:]
+    columns = {name: [row[k] for row in body] for k, name in enumerate(header)}
+    assert set(columns["|x/p_s| [mm/Pa]"]) == {"0"} and set(columns["phase x/p_s [deg]"]) == {""}
+    assert all(math.isfinite(float(v)) for v in columns["phase pA/p_s [deg]"])
+    assert all(float(v) == pytest.approx(-90.0, abs=60.0) for v in columns["phase pA/p_s [deg]"])
