@@ -19,7 +19,9 @@ class BcAxisInertia(Block):
       bridge_travel   0.085        75 mm    39.0    22997             0.0851
       trolley_travel  0.027        55 mm    38.4    13006             0.0267
       slewing         0.011        2.1 m    405.45  5741              0.0112
-      lga_trolley_travel  m_tt*r_p^2/n_g^2 = 1500 kg*(110 mm)^2/39.1^2 = 0.01187 (eq. 2.54 with n_g^2)
+      lga_trolley_travel  m_tt*r_p^2/n_g^2 = 1500 kg*(55 mm)^2/39.1^2 = 0.002968 (eq. 2.54 with n_g^2;
+                          section 2.8.5's printed r_p = 110 mm read as the pinion's diameter: table 2.3's
+                          78 l/min through the 19 cm^3/rev motor gives its 600 mm/s only with r_p = 54.6 mm)
 
     J0 agrees with the table's masses to the table's last digit. The motor's own inertia (J_m,mBT =
     0.0034, J_m,mTT = 0.0017, J_m,mS = 0.005 kg*m^2) belongs to the motor block, not here. The load m_L (the
@@ -37,7 +39,7 @@ class BcAxisInertia(Block):
         "bridge_travel": {"J0": "0.085 kg*m^2", "r": "75 mm", "n_g": 39.0},
         "trolley_travel": {"J0": "0.027 kg*m^2", "r": "55 mm", "n_g": 38.4},
         "slewing": {"J0": "0.011 kg*m^2", "r": "2.1 m", "n_g": "44.6*1200/132"},
-        "lga_trolley_travel": {"J0": "1500*0.110**2/39.1**2", "r": "110 mm", "n_g": 39.1},
+        "lga_trolley_travel": {"J0": "1500*0.055**2/39.1**2", "r": "55 mm", "n_g": 39.1},
     }
 
     @staticmethod

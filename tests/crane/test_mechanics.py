@@ -299,7 +299,8 @@ def test_bridge_crane_inertias_table_2_14(tmp_path):
         "bridge_travel": (0.085, 0.075, 39.0, 22997, 22997 * 0.075**2 / 39.0**2),
         "trolley_travel": (0.027, 0.055, 38.4, 13006, 13006 * 0.055**2 / 38.4**2),
         "slewing": (0.011, 2.1, n_slew, 5741, 0.5 * 5741 * 0.8**2 / n_slew**2),
-        "lga_trolley_travel": (1500 * 0.110**2 / 39.1**2, 0.110, 39.1, 1500, 1500 * 0.110**2 / 39.1**2),
+        # section 2.8.5's r_p = 110 mm is the pinion's diameter: 78 l/min / 19 cm^3/rev * r/n_g = 600 mm/s
+        "lga_trolley_travel": (1500 * 0.055**2 / 39.1**2, 0.055, 39.1, 1500, 1500 * 0.055**2 / 39.1**2),
     }
     netlist = tmp_path / "axes.yaml"
     netlist.write_text("parameters: {m_load: \"7500 kg\"}\ncomponents:\n" + "".join(
