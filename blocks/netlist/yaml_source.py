@@ -122,6 +122,8 @@ def _convert(node, path, located: Located, loader, counter, depth):
                 raise NetlistError(located.file, "mapping keys must be plain names",
                                    key_node.start_mark.line + 1, key_node.start_mark.column + 1)
             key = _scalar(key_node, loader, located)
+            if isinstance(key, bool) or key is None:
+                key = key_node.value  # a name as written: YAML 1.1 reads `on:`, `off:`, `yes:`, `no:` as booleans
             if key == "<<":
                 raise NetlistError(located.file, "YAML merge keys (<<) are not supported",
                                    key_node.start_mark.line + 1, key_node.start_mark.column + 1)
