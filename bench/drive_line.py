@@ -88,7 +88,7 @@ def run_handwritten_rodas(V: float):
     p = ref.make_params(V)
     y0 = ref.y0() if hasattr(ref, "y0") else np.array([0.0, 0.0, 20e5, 20e5, 0.0, 0.0])
     n = len(y0)
-    args = (y0, p, ref.T_EVAL, ref.RTOL, ref.ATOL, 0.0, 0.0, 10**7, 0.0, np.ones((n, n), dtype=np.bool_),
+    args = (y0, p, ref.T_EVAL, np.zeros(0), ref.RTOL, ref.ATOL, 0.0, 0.0, 10**7, 0.0, np.ones((n, n), dtype=np.bool_),
             np.arange(n, dtype=np.int64), n, 2)
     module.integrate(*args)  # compile or load from cache outside the timing
     seconds, out = _best_time(lambda: module.integrate(*args))

@@ -249,6 +249,13 @@ class Block:
         return None
 
     @classmethod
+    def breakpoints(cls, values: dict) -> tuple[float, ...]:
+        """The times [s] at which this block's outputs jump or kink as functions of time (a step, a
+        profile's points), from its parameter ``values`` by name. The solver lands a step on each, so that
+        no step jumps over a pulse shorter than itself. Only blocks whose outputs read t declare any."""
+        return ()
+
+    @classmethod
     def param(cls, name: str) -> Param:
         for p in cls.params:
             if p.name == name:

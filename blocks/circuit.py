@@ -22,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks import interrupt
-from blocks.block import PortKind
+from blocks.block import Block, PortKind
 from blocks.compiler.codegen import Generator, OutputExpr
 from blocks.compiler.structure import Structure, analyse, cavitation, jacobian_pattern
 from blocks.errors import NetlistError, SimulationError
@@ -68,6 +68,8 @@ class Circuit:
         self.pattern = jacobian_pattern(self.structure)
         self.nominal = nominal_vector(self)  # each state's nominal magnitude, SI (Newton's scale)
         self.groups, self.n_groups = _colour_columns(self.pattern)
+        self._timed = [(name, comp.cls) for name, comp in flat.components.items()  # blocks with breakpoints
+                       if comp.cls.breakpoints.__func__ is not Block.breakpoints.__func__]
         self.source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs])
         self.module = None
         if compile:
@@ -130,6 +132,13 @@ class Circuit:
                 slot = slots[state.name]
                 x0[slot.index:slot.index + slot.size] = values.get(f"{comp}.initial.{state.name}", state.start)
         return Vectors(theta, x0, values)
+
+    def breakpoints(self, vec: Vectors) -> np.ndarray:
+        """The times at which a block's output jumps or kinks in time (:meth:`Block.breakpoints`), sorted,
+        each once, from the evaluated parameters: the solver lands a step on each."""
+        times = [t for name, cls in self._timed
+                 for t in cls.breakpoints({p.name: vec.values[f"{name}.{p.name}"] for p in cls.params})]
+        return np.unique(np.array(times, dtype=float))
 
     def _ratio_value(self, body, net, values) -> float:
         ratio = 1.0

@@ -43,10 +43,10 @@ def observe_c(t, x, n, theta, m, y, k):
     observe(t, carray(x, (n,)), carray(theta, (m,)), carray(y, (k,)))
 
 
-def integrate(x0, theta, t_out, rtol, atol, h0, h_max, max_steps, fixed_h, jac_pattern, jac_groups,
+def integrate(x0, theta, t_out, t_stops, rtol, atol, h0, h_max, max_steps, fixed_h, jac_pattern, jac_groups,
               n_groups, n_obs):
     # blocks.solve.rosenbrock.integrate on this module's rhs and observe
-    return _rosenbrock.integrate(rhs_c, observe_c, x0, theta, t_out, rtol, atol, h0, h_max, max_steps,
+    return _rosenbrock.integrate(rhs_c, observe_c, x0, theta, t_out, t_stops, rtol, atol, h0, h_max, max_steps,
                                  fixed_h, jac_pattern, jac_groups, n_groups, n_obs)
 
 

@@ -45,7 +45,15 @@ Error control
 
 A step is accepted if err <= 1. New step h_new = h * clip(0.9 err^(-1/4), 0.2, 6), taking the
 smaller of that and Gustafsson's predictive (PI) value after an accepted step, as in RODAS;
-no growth right after a rejection. A trial step whose stages, new state or derivative at
+no growth right after a rejection.
+
+Stops: a step never crosses a time of ``t_stops`` (sorted; those outside (t_out[0], t_out[-1]) are
+ignored): one that would is shortened to end on it (its last stages, c = 1, evaluated just before it),
+and the next starts from there with the step the controller had proposed before the shortening (or
+less, as it says). These are the times an input jumps
+or kinks: a step is at most as long as the error it sees, and a pulse shorter than a step falls between
+its stages unseen (a 5 ms flow pulse in a 5 s run at rest gave 0 bar instead of 6.5). Fixed steps ignore
+them. A trial step whose stages, new state or derivative at
 the new state are not finite is rejected and h is divided by 4.
 
 Jacobian: forward differences, perturbation dx_j = sqrt(eps) * max(|x_j|, atol_j/rtol),
@@ -290,9 +298,11 @@ def _ros_dfdt(rhs, t, x, f0, theta, fx, fp):
 
 
 @njit(cache=True)
-def _ros_stages(rhs, t, h, x, f0, fx, M, piv, theta, ks, ytmp, ftmp, xnew):
+def _ros_stages(rhs, t, h, t_end, x, f0, fx, M, piv, theta, ks, ytmp, ftmp, xnew):
     """One Rodas4 step with the factorised iteration matrix M. Writes the stage vectors
-    into ks[0..5] (ks[5] is the error estimate) and the new state into xnew.
+    into ks[0..5] (ks[5] is the error estimate) and the new state into xnew. Stages 5 and 6
+    (c = 1) evaluate the rhs at t_end: t + h, or just before it for a step ending on a stop
+    (the inputs' values on the step, not those they jump to there).
     Returns the number of rhs calls (5)."""
     n = x.shape[0]
     ih = 1.0 / h
@@ -331,7 +341,7 @@ def _ros_stages(rhs, t, h, x, f0, fx, M, piv, theta, ks, ytmp, ftmp, xnew):
     # stage 5 (c5 = 1, d5 = 0)
     for i in range(n):
         ytmp[i] = x[i] + _ROS_A51 * k1[i] + _ROS_A52 * k2[i] + _ROS_A53 * k3[i] + _ROS_A54 * k4[i]
-    _ros_f(rhs, t + h, ytmp, theta, ftmp)
+    _ros_f(rhs, t_end, ytmp, theta, ftmp)
     for i in range(n):
         k5[i] = ftmp[i] + ih * (_ROS_C51 * k1[i] + _ROS_C52 * k2[i] + _ROS_C53 * k3[i]
                                 + _ROS_C54 * k4[i])
@@ -339,7 +349,7 @@ def _ros_stages(rhs, t, h, x, f0, fx, M, piv, theta, ks, ytmp, ftmp, xnew):
     # stage 6 (c6 = 1, d6 = 0): evaluated at the embedded solution x5 + k5
     for i in range(n):
         ytmp[i] = ytmp[i] + k5[i]
-    _ros_f(rhs, t + h, ytmp, theta, ftmp)
+    _ros_f(rhs, t_end, ytmp, theta, ftmp)
     for i in range(n):
         k6[i] = ftmp[i] + ih * (_ROS_C61 * k1[i] + _ROS_C62 * k2[i] + _ROS_C63 * k3[i]
                                 + _ROS_C64 * k4[i] + _ROS_C65 * k5[i])
@@ -507,7 +517,7 @@ def _ros_sparsity(jac_pattern, jac_groups, n_groups):
 
 
 @njit(cache=True)
-def integrate(rhs, observe, x0, theta, t_out, rtol, atol, h0, h_max, max_steps, fixed_h,
+def integrate(rhs, observe, x0, theta, t_out, t_stops, rtol, atol, h0, h_max, max_steps, fixed_h,
               jac_pattern, jac_groups, n_groups, n_obs):
     """Integrate x' = rhs(t, x, theta) from t_out[0] to t_out[-1] with Rodas4P2.
 
@@ -616,6 +626,11 @@ def integrate(rhs, observe, x0, theta, t_out, rtol, atol, h0, h_max, max_steps, 
         hacc = 0.0
         erracc = 1.0
         hmin_tf = 1e-14 * max(1.0, abs(tf))
+        n_stops = t_stops.shape[0]
+        next_stop = 0
+        while next_stop < n_stops and t_stops[next_stop] <= t0 + 2.0 * hmin_tf:
+            next_stop += 1
+        h_free = 0.0  # the controller's step before it was shortened to end on a stop (0: not shortened)
 
         while True:
             if n_steps >= max_steps:
@@ -636,11 +651,17 @@ def integrate(rhs, observe, x0, theta, t_out, rtol, atol, h0, h_max, max_steps, 
             else:
                 if h > hmax:
                     h = hmax
+                h_free = 0.0
                 if t + h >= tf - 2.0 * hmin_tf:
                     t_new = tf
                     last = True
                 else:
                     t_new = t + h
+                if next_stop < n_stops and t_stops[next_stop] < tf - 2.0 * hmin_tf \
+                        and t_new >= t_stops[next_stop] - 2.0 * hmin_tf:
+                    h_free = h
+                    t_new = t_stops[next_stop]
+                    last = False
                 h = t_new - t
                 if not last and h < 1e-14 * max(1.0, abs(t)):
                     if last_fail_nonfinite:
@@ -669,7 +690,8 @@ def integrate(rhs, observe, x0, theta, t_out, rtol, atol, h0, h_max, max_steps, 
 
             ok = fail_col < 0
             if ok:
-                n_rhs += _ros_stages(rhs, t, h, x, f0, fx, M, piv, theta, ks, ytmp, ftmp, xnew)
+                t_end = np.nextafter(t_new, -np.inf) if h_free > 0.0 else t + h
+                n_rhs += _ros_stages(rhs, t, h, t_end, x, f0, fx, M, piv, theta, ks, ytmp, ftmp, xnew)
                 nf = _ros_first_nonfinite(xnew)
                 if nf >= 0:
                     ok = False
@@ -707,6 +729,8 @@ def integrate(rhs, observe, x0, theta, t_out, rtol, atol, h0, h_max, max_steps, 
                 n_acc += 1
                 if last:
                     break
+                while next_stop < n_stops and t_stops[next_stop] <= t + 2.0 * hmin_tf:
+                    next_stop += 1
                 need_jac = True
                 if fixed:
                     i_fixed += 1
@@ -723,6 +747,8 @@ def integrate(rhs, observe, x0, theta, t_out, rtol, atol, h0, h_max, max_steps, 
                     hacc = h
                     erracc = max(1e-2, err)
                     h = h * fac
+                    if h_free > 0.0 and fac >= 1.0 and h < h_free:
+                        h = h_free  # a step shortened to end on a stop does not shrink the next
                 rejected_last = False
                 last_fail_nonfinite = False
             else:

@@ -7,6 +7,8 @@
   Radau receive the Jacobian's sparsity from the netlist graph.
 The absolute tolerance of each state is ``atol`` times the state's nominal magnitude (1 bar for a
 pressure, 1 rad/s for a speed...), so one number suits states of very different sizes.
+Every variable-step solver lands a step on each time an input jumps or kinks (``Circuit.breakpoints``: a
+step's time, a profile's points): rodas ends a step there, the scipy solvers are restarted there.
 """
 
 from __future__ import annotations
@@ -55,16 +57,18 @@ def solve(circuit, vec, settings: SolverSettings, progress=None) -> Outcome:
     """``progress(fraction, seconds)``, if given, is called as the run advances (compiled solvers only)."""
     t_out = output_times(settings)
     atol = atol_vector(circuit, settings)
+    stops = circuit.breakpoints(vec)
+    stops = stops[(stops > t_out[0]) & (stops < t_out[-1])]
     if settings.solver in ("rodas", "fixed"):
-        return _solve_compiled(circuit, vec, settings, t_out, atol, progress)
-    return _solve_scipy(circuit, vec, settings, t_out, atol)
+        return _solve_compiled(circuit, vec, settings, t_out, stops, atol, progress)
+    return _solve_scipy(circuit, vec, settings, t_out, stops, atol)
 
 
 PROGRESS_CHUNKS = 10
 STAT_NAMES = ("steps", "rejected", "rhs_calls", "jacobians", "lu")
 
 
-def _solve_compiled(circuit, vec, settings, t_out, atol, progress) -> Outcome:
+def _solve_compiled(circuit, vec, settings, t_out, stops, atol, progress) -> Outcome:
     """Consecutive calls of the compiled integrator over PROGRESS_CHUNKS slices of the output times, with
     ``progress`` called after each. Always sliced (with or without a callback) so that a result never
     depends on whether someone watched it; each slice restarts the step-size selection (a few steps)."""
@@ -72,7 +76,7 @@ def _solve_compiled(circuit, vec, settings, t_out, atol, progress) -> Outcome:
     n_obs = len(circuit.outputs)
 
     def run(x0, times):
-        outcome = circuit.module.integrate(x0, vec.theta, times, settings.rtol, atol, 0.0, settings.max_step,
+        outcome = circuit.module.integrate(x0, vec.theta, times, stops, settings.rtol, atol, 0.0, settings.max_step,
                                            settings.max_steps, fixed, circuit.pattern, circuit.groups,
                                            circuit.n_groups, n_obs)
         interrupt.check()  # a Ctrl-C the compiled call swallowed
@@ -110,9 +114,9 @@ class _Stop(Exception):
         self.status, self.t, self.index = status, t, index
 
 
-def _solve_scipy(circuit, vec, settings, t_out, atol) -> Outcome:
-    """scipy's solve_ivp on the compiled rhs. A non-finite state, or more rhs calls than ``max_steps``
-    (LSODA can loop for ever near a singularity), stops it with a located failure."""
+def _solve_scipy(circuit, vec, settings, t_out, stops, atol) -> Outcome:
+    """scipy's solve_ivp on the compiled rhs, restarted at each stop. A non-finite state, or more rhs calls
+    than ``max_steps`` (LSODA can loop for ever near a singularity), stops it with a located failure."""
     from scipy.integrate import solve_ivp
 
     rhs, observe = circuit.module.rhs, circuit.module.observe
@@ -138,32 +142,45 @@ def _solve_scipy(circuit, vec, settings, t_out, atol) -> Outcome:
         options["max_step"] = settings.max_step
     if method in ("BDF", "Radau") and n > 0:
         options["jac_sparsity"] = circuit.pattern
-    status, t_reached, bad, sol = 0, float(t_out[-1]), -1, None
+    status, t_reached, bad = 0, float(t_out[-1]), -1
+    pieces = []  # the solutions between consecutive stops
+    edges = np.concatenate([t_out[:1], stops, t_out[-1:]])
+    x = vec.x0
     with np.errstate(all="ignore"):
-        try:
-            sol = solve_ivp(fun, (t_out[0], t_out[-1]), vec.x0, method=method, **options)
-        except _Stop as stop:
-            status, t_reached, bad = stop.status, stop.t, stop.index
-        except (RuntimeError, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
-            status, t_reached = 3, last_good[0]  # e.g. BDF: "Factor is exactly singular"
-    if sol is not None and sol.status != 0:
-        status, t_reached = 1, float(sol.t[-1])
+        for start, end in zip(edges[:-1], edges[1:]):
+            try:
+                sol = solve_ivp(fun, (start, end), x, method=method, **options)
+            except _Stop as stop:
+                status, t_reached, bad = stop.status, stop.t, stop.index
+                break
+            except (RuntimeError, ValueError, ZeroDivisionError, np.linalg.LinAlgError):
+                status, t_reached = 3, last_good[0]  # e.g. BDF: "Factor is exactly singular"
+                break
+            pieces.append(sol)
+            if sol.status != 0:
+                status, t_reached = 1, float(sol.t[-1])
+                break
+            x = sol.y[:, -1]
     K = len(t_out)
     X = np.full((K, n), np.nan)
     Y = np.full((K, len(circuit.outputs)), np.nan)
-    if sol is not None and sol.sol is not None:
-        reached = t_out <= sol.t[-1] + 1e-12 * max(1.0, abs(sol.t[-1]))
-        if reached.any():
-            X[reached] = sol.sol(t_out[reached]).T
-    elif sol is None:
+    if pieces:
+        end = pieces[-1].t[-1]
+        reached = t_out <= end + 1e-12 * max(1.0, abs(end))
+        piece_of = np.minimum(np.searchsorted(edges[1:len(pieces) + 1], t_out, side="left"), len(pieces) - 1)
+        for k in np.flatnonzero(reached):
+            if pieces[piece_of[k]].sol is not None:
+                X[k] = pieces[piece_of[k]].sol(t_out[k])
+    else:
         X[0] = vec.x0
     m = int(np.sum(np.all(np.isfinite(X), axis=1)))
     for k in range(m):
         observe(t_out[k], X[k], theta, Y[k])
     x_min = np.nanmin(X[:m], axis=0) if m else vec.x0.copy()
-    if sol is not None and sol.y.size:  # every step end point, not only the samples (cavitation between them)
-        with np.errstate(all="ignore"):
-            x_min = np.fmin(x_min, np.nanmin(sol.y, axis=1))
+    for piece in pieces:  # every step end point, not only the samples (cavitation between them)
+        if piece.y.size:
+            with np.errstate(all="ignore"):
+                x_min = np.fmin(x_min, np.nanmin(piece.y, axis=1))
     x_end = X[m - 1] if m else vec.x0.copy()
     if status != 0:
         x_end = np.asarray(last_good[1], dtype=float)
@@ -171,6 +188,6 @@ def _solve_scipy(circuit, vec, settings, t_out, atol) -> Outcome:
             with np.errstate(all="ignore"):
                 bad = int(np.argmax(np.abs(np.nan_to_num(x_end, nan=np.inf)) / (atol + 1e-300)))
     stats = {"rhs_calls": calls[0]}
-    if sol is not None:
-        stats.update(jacobians=int(sol.njev), lu=int(sol.nlu))
+    if pieces:
+        stats.update(jacobians=sum(int(p.njev) for p in pieces), lu=sum(int(p.nlu) for p in pieces))
     return Outcome(status, t_out, X, Y, x_min, x_end, t_reached, bad, stats)

@@ -263,6 +263,24 @@ def test_declarations(name):
         assert math.isfinite(ratio) and ratio != 0.0, f"{name}.ratio = {ratio} at the default point"
 
 
+# ---------------------------------------------------------------- breakpoints of inputs in time
+SMOOTH_IN_TIME = {"clock": "y = t, smooth"}  # blocks reading t with no jump or kink to declare
+
+
+@pytest.mark.parametrize("name", NAMES)
+def test_a_block_that_reads_time_declares_where_it_jumps_or_kinks(name):
+    # the solver lands a step on each breakpoint (blocks/solve/rosenbrock.py); a time block that declared
+    # none would let a step jump over its pulse (a 5 ms pulse in a 5 s run gave 0 bar instead of 6.5)
+    cls = TYPES[name]
+    reads_t = any("t" in argument_names(fn) for fn in (cls.outputs, cls.derivatives) if fn is not None)
+    declares = cls.breakpoints.__func__ is not Block.breakpoints.__func__
+    if reads_t and name not in SMOOTH_IN_TIME:
+        assert declares, f"{name} reads t: declare the times its outputs jump or kink (Block.breakpoints)"
+    if declares:
+        times = cls.breakpoints(default_params(cls))
+        assert len(times) and all(isinstance(t, float) and math.isfinite(t) for t in times), times
+
+
 # ---------------------------------------------------------------- finite at the default point
 @pytest.mark.parametrize("name", NAMES)
 def test_finite_at_defaults(name):

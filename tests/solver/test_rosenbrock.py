@@ -60,6 +60,8 @@ BANK = textwrap.dedent('''
             dx[0] = theta[1] * (x[0] - math.sin(t)) + math.cos(t)
         elif p == 8:    # derivative is NaN once x < 0 (x' = -sqrt(x) - 1)
             dx[0] = -math.sqrt(x[0]) - 1.0
+        elif p == 10:   # pulse: x' = q on [t_a, t_b), else 0 (theta = q, t_a, t_b)
+            dx[0] = theta[1] if theta[2] <= t < theta[3] else 0.0
         else:           # always NaN
             for i in range(n):
                 dx[i] = math.nan
@@ -71,11 +73,11 @@ BANK = textwrap.dedent('''
             y[i] = 2.0 * x[i % x.shape[0]] + t
 ''')
 
-DECAY, LOGISTIC, ROBERTSON, LINEAR, DIFFUSION, BLOWUP, OSCILLATOR, PROTHERO, SQRT_NAN, ALL_NAN = range(10)
+DECAY, LOGISTIC, ROBERTSON, LINEAR, DIFFUSION, BLOWUP, OSCILLATOR, PROTHERO, SQRT_NAN, ALL_NAN, PULSE = range(11)
 
 
 def _call(mod, prob, x0, params, t_out, rtol=1e-6, atol=1e-9, h0=0.0, h_max=0.0,
-          max_steps=100_000, fixed_h=0.0, pattern=None, groups=None, n_obs=1):
+          max_steps=100_000, fixed_h=0.0, pattern=None, groups=None, n_obs=1, t_stops=()):
     x0 = np.ascontiguousarray(x0, dtype=np.float64)
     n = x0.shape[0]
     theta = np.array([prob, *np.ravel(params)], dtype=np.float64)
@@ -86,7 +88,8 @@ def _call(mod, prob, x0, params, t_out, rtol=1e-6, atol=1e-9, h0=0.0, h_max=0.0,
         pattern = np.ones((n, n), dtype=np.bool_)
         groups = np.arange(n, dtype=np.int64)
     n_groups = int(groups.max()) + 1 if n else 0
-    out = mod.integrate(x0, theta, np.ascontiguousarray(t_out, dtype=np.float64), float(rtol),
+    out = mod.integrate(x0, theta, np.ascontiguousarray(t_out, dtype=np.float64),
+                        np.array(t_stops, dtype=np.float64), float(rtol),
                         atol, float(h0), float(h_max), int(max_steps), float(fixed_h),
                         np.ascontiguousarray(pattern, dtype=np.bool_),
                         np.ascontiguousarray(groups, dtype=np.int64), n_groups, int(n_obs))
@@ -192,6 +195,31 @@ def test_fixed_step_lands_on_final_time(bank):
     r = bank.run(DECAY, [1.0], [1.0], [0.0, 0.5, 1.0], fixed_h=0.3)
     assert r.status == 0 and r.t == 1.0 and r.stats[0] == 4 and r.stats[1] == 0
     assert abs(r.x[0] - np.exp(-1.0)) < 1e-4
+
+
+def test_a_pulse_between_steps_is_integrated_when_its_ends_are_stops(bank):
+    # at rest the step grows to the run's length, and a pulse shorter than a step falls between its
+    # stages: x stays 0. Ending steps on the pulse's ends integrates it exactly (x' is constant on it, and a
+    # step ending on t_b evaluates its last stages just before t_b, where the pulse is still on).
+    q, t_a, t_b = 3.0, 2.23, 2.235
+    t = np.linspace(0.0, 5.0, 11)
+    missed = bank.run(PULSE, [0.0], [q, t_a, t_b], t)
+    assert missed.status == 0 and missed.x[0] == 0.0  # the failure the stops are for
+    for stops in ([t_a, t_b], [-1.0, 0.0, t_a, t_a, t_b, 5.0, 7.0]):  # outside, at the ends, repeated
+        r = bank.run(PULSE, [0.0], [q, t_a, t_b], t, t_stops=stops)
+        assert r.status == 0 and r.t == 5.0
+        assert r.x[0] == pytest.approx(q * (t_b - t_a), rel=1e-12)
+        np.testing.assert_allclose(r.X[:, 0], q * np.clip(t - t_a, 0.0, t_b - t_a), rtol=1e-12, atol=1e-15)
+        assert r.stats[0] < 40, r.stats  # the steps after a stop are not shortened by it
+
+
+def test_a_step_ended_on_a_stop_keeps_its_accuracy_and_pace(bank):
+    # a smooth problem with stops that mean nothing: the same answer, a few steps more
+    t = np.linspace(0.0, 2.0, 21)
+    plain = bank.run(DECAY, [1.0], [0.7], t, rtol=1e-8, atol=1e-12)
+    stopped = bank.run(DECAY, [1.0], [0.7], t, rtol=1e-8, atol=1e-12, t_stops=np.linspace(0.1, 1.9, 7))
+    assert stopped.status == 0 and np.max(np.abs(stopped.X[:, 0] - np.exp(-0.7 * t))) < 1e-8
+    assert stopped.stats[0] <= plain.stats[0] + 7
 
 
 def _robertson_reference(t_eval):

@@ -28,6 +28,10 @@ class Profile(Block):
         return (interp1(t, times, values, False),)
 
     @classmethod
+    def breakpoints(cls, values: dict) -> tuple[float, ...]:
+        return tuple(float(t) for t in values["times"])
+
+    @classmethod
     def check_values(cls, values: dict) -> str | None:
         """None if the parameter values fit together, else what is wrong (build time, not in the hot path)."""
         return check_breakpoints("times", values["times"]) or check_length(

@@ -36,3 +36,8 @@ class Ramp(Block):
                 return (y1,)
             return (y0 + (y1 - y0) * (t - t_start) / duration,)
         return (y0 + slope * (t - t_start),)
+
+    @classmethod
+    def breakpoints(cls, values: dict) -> tuple[float, ...]:
+        start, duration = values["t_start"], values["duration"]
+        return (start, start + duration) if duration > 0.0 else (start,)

@@ -24,3 +24,7 @@ class Step(Block):
     @staticmethod
     def outputs(t, t_step, y0, y1):
         return (y1 if t >= t_step else y0,)
+
+    @classmethod
+    def breakpoints(cls, values: dict) -> tuple[float, ...]:
+        return (values["t_step"],)
