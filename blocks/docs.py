@@ -419,7 +419,15 @@ def file_format() -> str:
     ]
     for name in solvers:
         sections.append(f"| `{name}` | {SOLVER_TEXT.get(name, '')} |")
-    sections.append("")
+    sections += [
+        "",
+        "Every variable-step solver lands a step on each time an input jumps or kinks: a `step`'s time, a "
+        "`ramp`'s start and end, a `profile`'s points (rodas ends a step there, the scipy solvers restart "
+        "there). So a short pulse is never stepped over, however long the quiet run before it. A change "
+        "in time that no such block declares (a signal crossing a threshold) is found by error control "
+        "alone; `max_step` bounds the step where that is not enough.",
+        "",
+    ]
     return "\n".join(sections) + "\n"
 
 
