@@ -45,16 +45,15 @@ Error control
 
 A step is accepted if err <= 1. New step h_new = h * clip(0.9 err^(-1/4), 0.2, 6), taking the
 smaller of that and Gustafsson's predictive (PI) value after an accepted step, as in RODAS;
-no growth right after a rejection.
+no growth right after a rejection. A trial step whose stages, new state or derivative at
+the new state are not finite is rejected and h is divided by 4.
 
 Stops: a step never crosses a time of ``t_stops`` (sorted; those outside (t_out[0], t_out[-1]) are
 ignored): one that would is shortened to end on it (its last stages, c = 1, evaluated just before it),
 and the next starts from there with the step the controller had proposed before the shortening (or
-less, as it says). These are the times an input jumps
-or kinks: a step is at most as long as the error it sees, and a pulse shorter than a step falls between
-its stages unseen (a 5 ms flow pulse in a 5 s run at rest gave 0 bar instead of 6.5). Fixed steps ignore
-them. A trial step whose stages, new state or derivative at
-the new state are not finite is rejected and h is divided by 4.
+less, as it says). These are the times an input jumps or kinks: a step is as long as the error it sees
+allows, and a pulse shorter than a step falls between its stages unseen (a 5 ms flow pulse in a 5 s run
+at rest gave 0 bar instead of 6.5). Fixed steps ignore them.
 
 Jacobian: forward differences, perturbation dx_j = sqrt(eps) * max(|x_j|, atol_j/rtol),
 with the sign of x_j (moves away from zero, never across it). Columns are grouped with a
