@@ -14,8 +14,8 @@ by evaluating the netlist's parameter table with it overridden, so an expression
 Derivatives are central differences: state j is moved by h_j = 1e-6 * max(|x_j|, s_j), s_j its nominal
 magnitude (1 bar for a pressure); an input by 1e-6 * |u|, or at u = 0 by 1e-6 of the larger magnitude of
 its declared bounds (1e-6 in SI when it has none), one-sided where a step would leave its bounds. An entry
-of [A, B] (or [C, D]) whose effect, the entry times its state's or input's size, is under 1e-8 of the largest
-in its row is the differences' rounding (about eps/1e-6 of the row's terms), and is set to 0. The model
+of [A, B] (or [C, D]) within 100 times the rounding of its difference, eps times its row's terms over its
+step, is set to 0 (:func:`_drop_round_off`). The model
 holds t fixed at t*: the inputs that are functions of time (steps, profiles) are held at their values there.
 
 Modes. The eigenvalues lambda_k of A (computed on A scaled by the states' nominal magnitudes,
@@ -44,7 +44,8 @@ import scipy.linalg
 from blocks.errors import SimulationError, VphsError
 
 STATE_STEP = 1e-6  # relative central-difference step (the optimum for central differences is ~eps^(1/3))
-ROUND_OFF = 1e-8  # an entry whose effect is under this fraction of its row's largest is 0 (eps/STATE_STEP: 2e-10)
+PERTURBATION = 1e-12  # relative change of the linear model's entries that a response must survive (_through_states)
+ROUND_OFF = 100 * np.finfo(float).eps  # an entry times its step under this times its row's terms is rounding
 INTEGRATOR = 1e-12  # an eigenvalue below this fraction of the largest is taken as 0 (eig's rounding: ~1e-14)
 
 
@@ -186,11 +187,11 @@ def linearise(circuit, point: OperatingPoint, inputs: list[str] | tuple = (),
         return y[rows]
 
     nominal = _state_nominal(circuit)
-    state_size = np.maximum(np.abs(x0), nominal)
+    state_step = STATE_STEP * np.maximum(np.abs(x0), nominal)
     A = np.zeros((n, n))
     C = np.zeros((len(rows), n))
     for j in range(n):
-        h = STATE_STEP * state_size[j]
+        h = state_step[j]
         xp, xm = x0.copy(), x0.copy()
         xp[j] += h
         xm[j] -= h
@@ -198,17 +199,18 @@ def linearise(circuit, point: OperatingPoint, inputs: list[str] | tuple = (),
         C[:, j] = (g(xp, theta) - g(xm, theta)) / (2.0 * h)
     B = np.zeros((n, len(inputs)))
     D = np.zeros((len(rows), len(inputs)))
-    input_size = np.zeros(len(inputs))
+    input_value, input_step = np.zeros(len(inputs)), np.zeros(len(inputs))
     for k, name in enumerate(inputs):
         value = circuit.flat.parameters.evaluate(point.overrides)[name]
-        input_size[k] = _input_size(circuit, name, value)
         low, high = _input_span(circuit, name, value)
+        input_value[k], input_step[k] = value, (high - low) / 2.0
         up = circuit.vectors({**point.overrides, name: high}).theta
         down = circuit.vectors({**point.overrides, name: low}).theta
         B[:, k] = (f(x0, up) - f(x0, down)) / (high - low)
         D[:, k] = (g(x0, up) - g(x0, down)) / (high - low)
-    _drop_round_off(A, B, state_size, input_size)
-    _drop_round_off(C, D, state_size, input_size)
+    steps, values = np.concatenate([state_step, input_step]), np.concatenate([x0, input_value])
+    _drop_round_off(A, B, steps, values, f(x0, theta))
+    _drop_round_off(C, D, steps, values, g(x0, theta))
     units = {o.name: o.unit for o in circuit.outputs}
     return LinearModel(A, B, C, D, names, _state_units(circuit), nominal, list(inputs),
                        [input_unit(circuit, name) for name in inputs], chosen, [units[o] for o in chosen], point)
@@ -285,7 +287,7 @@ def steady_gain(model: LinearModel) -> tuple[np.ndarray, np.ndarray]:
     piston position of a cylinder whose flow is the input integrates, but the pressure behind a relief
     valve does not. (A bare solve would call every such circuit singular.) The other modes are not summed
     one by one: two equal filters in series have nearly parallel eigenvectors, and their modal terms, 1e7
-    each, summed to -0.77 for a gain of 1."""
+    each, summed to 0.77 for a gain of 1."""
     A, B, C = _scaled(model)
     n_out, n_in = model.D.shape
     gain = np.array(model.D, dtype=float)
@@ -305,25 +307,32 @@ def steady_gain(model: LinearModel) -> tuple[np.ndarray, np.ndarray]:
                 if np.linalg.cond(R) > 1e12:
                     gain[a, b], why[a, b] = np.nan, GAIN_DEFECTIVE
                     continue
-                largest = (np.linalg.norm(C_r) * np.linalg.norm(R, axis=0) * np.linalg.norm(L, axis=1)
-                           * np.linalg.norm(B_r))
-                if np.any(np.abs((C_r @ R)[0] * (L @ B_r)[:, 0]) > 1e-8 * largest):
+                projector = (R @ np.linalg.solve(L @ R, L)).real
+                # the output integrates what reaches it through the modes at 0, C_r P0 B_r (taken together:
+                # two integrators of one input, one subtracted from the other, integrate nothing)
+                integrated = abs((C_r @ projector @ B_r)[0, 0])
+                if integrated > 1e-8 * np.linalg.norm(C_r) * np.linalg.norm(projector, 2) * np.linalg.norm(B_r):
                     gain[a, b], why[a, b] = np.nan, GAIN_INTEGRATES
                     continue
-                projector = (R @ np.linalg.solve(L @ R, L)).real
             rest = np.eye(len(A_r)) - projector
             gain[a, b] = model.D[a, b] + _through_states(-(A_r + projector), rest @ B_r, C_r)[0, 0].real
     return gain, why
 
 
 def _through_states(M: np.ndarray, B: np.ndarray, C: np.ndarray) -> np.ndarray:
-    """C M^-1 B, each part under its rounding 0: the solve X = M^-1 B is exact only to about eps*|X_b|
-    (2-norm, per column b), so an output's C_a X_b under eps*|C_a|*|X_b| is that rounding, not a response
-    (a symmetric piston fed the same pressure on both sides read 1e-25 mm/Pa, its phase at random)."""
-    X = np.linalg.solve(M, B)
-    through = C @ X
-    rounding = np.finfo(float).eps * np.linalg.norm(C, axis=1)[:, None] * np.linalg.norm(X, axis=0)[None, :]
-    return np.where(np.abs(through) <= rounding, 0.0, through)
+    """C M^-1 B, with each part that the model does not determine set to 0.
+
+    The entries of M and B are differences, good to about 1e-10 of themselves. A part that moves by more
+    than a tenth of itself when they move by 1e-12 (each entry scaled by 1 +- 1e-12, signs fixed and
+    random) is the solve's rounding of a cancellation, not a response: a symmetric piston fed the same
+    pressure on both sides read 1e-25 mm/Pa at a random phase. A small part computed accurately stays:
+    eight low-passes in series at 100 times their corner give 1e-16 of their input."""
+    through = C @ np.linalg.solve(M, B)
+    signs = np.random.default_rng(0)
+    M2 = M * (1.0 + PERTURBATION * signs.choice((-1.0, 1.0), M.shape))
+    B2 = B * (1.0 + PERTURBATION * signs.choice((-1.0, 1.0), B.shape))
+    moved = np.abs(C @ np.linalg.solve(M2, B2) - through)
+    return np.where(np.abs(through) <= 10.0 * moved, 0.0, through)
 
 
 def coupled(model: LinearModel) -> np.ndarray:
@@ -364,24 +373,24 @@ def input_unit(circuit, name: str) -> str:
     return si_name(entry.dims)
 
 
-def _drop_round_off(on_states: np.ndarray, on_inputs: np.ndarray, state_size: np.ndarray,
-                    input_size: np.ndarray) -> None:
-    """Set to 0, in place, the entries of [on_states, on_inputs] (A and B, or C and D) that are the central
-    differences' round-off, not a coupling.
+def _drop_round_off(on_states: np.ndarray, on_inputs: np.ndarray, steps: np.ndarray, values: np.ndarray,
+                    at_point: np.ndarray) -> None:
+    """Set to 0, in place, the entries of M = [on_states, on_inputs] (A and B, or C and D) that are the
+    central differences' rounding, not a coupling.
 
-    Entry (i, j) times the size of its state or input (what the difference step is relative to) is what
-    a change of that size does to row i. A difference carries a rounding of about eps/STATE_STEP of the
-    row's terms; an entry under ROUND_OFF of the row's largest such effect is within it, and is 0. (A load
-    mass on a body at rest, with no net force on it, read 4.6e-37 (m/s^2)/kg and a pressure per kg of 2e-37
-    bar followed.)"""
-    effect = np.hstack([np.abs(on_states) * state_size[None, :], np.abs(on_inputs) * input_size[None, :]])
-    if effect.size == 0:
+    Row i's terms are about T_i = max(|f_i|, max_j |M_ij v_j|) in size (``at_point`` f_i at the point, v_j
+    each state's and input's value there). A difference over a step h_j (``steps``) rounds by about
+    eps*T_i/h_j; an entry within 100 times that is the rounding, and is 0. (A load mass on a body at rest
+    with no net force on it read 4.6e-37 (m/s^2)/kg, and a pressure per kg of 2e-37 bar followed; a command
+    of 1e-9, or a gain of 1e-9 between two filters, is a coupling of its own size and is kept.)"""
+    M = np.hstack([on_states, on_inputs])
+    if M.size == 0:
         return
-    largest = effect.max(axis=1, keepdims=True)
-    noise = effect <= ROUND_OFF * largest
+    terms = np.maximum(np.abs(at_point), np.max(np.abs(M) * np.abs(values)[None, :], axis=1))
+    rounding = np.abs(M) * steps[None, :] <= ROUND_OFF * terms[:, None]
     n = on_states.shape[1]
-    on_states[noise[:, :n]] = 0.0
-    on_inputs[noise[:, n:]] = 0.0
+    on_states[rounding[:, :n]] = 0.0
+    on_inputs[rounding[:, n:]] = 0.0
 
 
 def _input_size(circuit, name: str, value: float) -> float:
