@@ -49,7 +49,8 @@ no growth right after a rejection. A trial step whose stages, new state or deriv
 the new state are not finite is rejected and h is divided by 4.
 
 Stops: a step never crosses a time of ``t_stops`` (sorted; those outside (t_out[0], t_out[-1]) are
-ignored): one that would is shortened to end on it (its last stages, c = 1, evaluated just before it),
+ignored): one that would is shortened to end on it (its last stages, c = 1, evaluated just before it, as
+for the last step when t_out[-1] is a stop),
 and the next starts from there with the step the controller had proposed before the shortening (or
 less, as it says). These are the times an input jumps or kinks: a step is as long as the error it sees
 allows, and a pulse shorter than a step falls between its stages unseen (a 5 ms flow pulse in a 5 s run
@@ -629,6 +630,10 @@ def integrate(rhs, observe, x0, theta, t_out, t_stops, rtol, atol, h0, h_max, ma
         next_stop = 0
         while next_stop < n_stops and t_stops[next_stop] <= t0 + 2.0 * hmin_tf:
             next_stop += 1
+        stop_at_tf = False  # the end is a stop too (a sliced run's slice ending on one)
+        for i in range(n_stops):
+            if abs(t_stops[i] - tf) <= 2.0 * hmin_tf:
+                stop_at_tf = True
         h_free = 0.0  # the controller's step before it was shortened to end on a stop (0: not shortened)
 
         while True:
@@ -689,7 +694,7 @@ def integrate(rhs, observe, x0, theta, t_out, t_stops, rtol, atol, h0, h_max, ma
 
             ok = fail_col < 0
             if ok:
-                t_end = np.nextafter(t_new, -np.inf) if h_free > 0.0 else t + h
+                t_end = np.nextafter(t_new, -np.inf) if h_free > 0.0 or (last and stop_at_tf) else t + h
                 n_rhs += _ros_stages(rhs, t, h, t_end, x, f0, fx, M, piv, theta, ks, ytmp, ftmp, xnew)
                 nf = _ros_first_nonfinite(xnew)
                 if nf >= 0:

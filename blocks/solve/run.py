@@ -8,7 +8,8 @@
 The absolute tolerance of each state is ``atol`` times the state's nominal magnitude (1 bar for a
 pressure, 1 rad/s for a speed...), so one number suits states of very different sizes.
 Every variable-step solver lands a step on each time an input jumps or kinks (``Circuit.breakpoints``: a
-step's time, a profile's points): rodas ends a step there, the scipy solvers are restarted there.
+step's time, a profile's points): rodas ends a step there; the scipy solvers are restarted there, at most
+100 times a run (:func:`_restarts`).
 """
 
 from __future__ import annotations
@@ -61,7 +62,24 @@ def solve(circuit, vec, settings: SolverSettings, progress=None) -> Outcome:
     stops = stops[(stops > t_out[0]) & (stops < t_out[-1])]
     if settings.solver in ("rodas", "fixed"):
         return _solve_compiled(circuit, vec, settings, t_out, stops, atol, progress)
-    return _solve_scipy(circuit, vec, settings, t_out, stops, atol)
+    return _solve_scipy(circuit, vec, settings, t_out, _restarts(stops, t_out[0], t_out[-1]), atol)
+
+
+SCIPY_RESTARTS = 100  # at most this many restarts of a scipy solver per run
+
+
+def _restarts(stops: np.ndarray, t_start: float, t_end: float) -> np.ndarray:
+    """The stops a scipy solver is restarted at: each at least (t_end - t_start)/SCIPY_RESTARTS after the
+    previous one (and the start), and as far before the end. A multistep method restarts at order 1, so a
+    restart at each of a recorded profile's 2000 points cost it 40 times the time and 50 times the error,
+    and two stops one rounding apart left it a span it could not step."""
+    spacing = (t_end - t_start) / SCIPY_RESTARTS
+    kept, last = [], t_start
+    for stop in stops:
+        if stop - last >= spacing and t_end - stop >= spacing:
+            kept.append(stop)
+            last = stop
+    return np.array(kept, dtype=float)
 
 
 PROGRESS_CHUNKS = 10

@@ -179,6 +179,16 @@ def test_profile_check_values():
     assert "entries" in Profile.check_values({"times": [0, 1, 2], "values": [0, 1]})
 
 
+def test_breakpoints_are_where_the_time_signals_jump_or_kink():
+    assert Step.breakpoints({"t_step": 1.5, "y0": 0.0, "y1": 1.0}) == (1.5,)
+    assert Ramp.breakpoints({"t_start": 1.0, "y0": 0.0, "slope": 2.0, "duration": 4.0, "y1": 3.0}) == (1.0, 5.0)
+    assert Ramp.breakpoints({"t_start": 1.0, "y0": 0.0, "slope": 2.0, "duration": 0.0, "y1": 3.0}) == (1.0,)
+    # a profile: where its slope changes, held constant outside; a point in a straight run is none
+    assert Profile.breakpoints({"times": A([0.0, 1.0, 2.0]), "values": A([0.0, 1.0, 2.0])}) == (0.0, 2.0)
+    assert Profile.breakpoints({"times": A([0, 1, 2, 3, 4.0]), "values": A([5, 5, 6, 6, 6.0])}) == (1.0, 2.0)
+    assert Profile.breakpoints({"times": A([0.0, 1.0]), "values": A([3.0, 3.0])}) == ()
+
+
 # ---------------------------------------------------------------- static maps
 @given(finite, finite)
 def test_gain(u, k):

@@ -29,7 +29,12 @@ class Profile(Block):
 
     @classmethod
     def breakpoints(cls, values: dict) -> tuple[float, ...]:
-        return tuple(float(t) for t in values["times"])
+        """The points where the slope changes (held constant outside: the ends count when the profile
+        moves next to them); a point in a straight run, such as flat padding, is none."""
+        times, values_ = values["times"], values["values"]
+        slopes = [0.0] + [(values_[i + 1] - values_[i]) / (times[i + 1] - times[i])
+                          for i in range(len(times) - 1)] + [0.0]
+        return tuple(float(t) for i, t in enumerate(times) if slopes[i] != slopes[i + 1])
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
