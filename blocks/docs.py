@@ -421,11 +421,13 @@ def file_format() -> str:
         sections.append(f"| `{name}` | {SOLVER_TEXT.get(name, '')} |")
     sections += [
         "",
-        "Every variable-step solver lands a step on each time an input jumps or kinks: a `step`'s time, a "
-        "`ramp`'s start and end, a `profile`'s points (rodas ends a step there, the scipy solvers restart "
-        "there). So a short pulse is never stepped over, however long the quiet run before it. A change "
-        "in time that no such block declares (a signal crossing a threshold) is found by error control "
-        "alone; `max_step` bounds the step where that is not enough.",
+        "`rodas` ends a step on each time a `step`, `ramp` or `profile` jumps or kinks (a step's time, a "
+        "ramp's start and end, a profile's points where its slope changes), so a short pulse is never "
+        "stepped over, however long the quiet run before it. The scipy solvers are restarted there, but "
+        "at most 100 times a run, no closer than 1/100 of it (a multistep method restarts at its lowest "
+        "order): a pulse closer than that to another breakpoint is left to their error control. A change "
+        "that no such block declares (a signal crossing a threshold) is found by error control alone; "
+        "`max_step` bounds the step where that is not enough.",
         "",
     ]
     return "\n".join(sections) + "\n"
