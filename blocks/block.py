@@ -147,7 +147,11 @@ class Param:
 @dataclass(frozen=True)
 class State:
     """A continuous state: name, SI unit, default initial value, nominal magnitude (scales the absolute
-    tolerance), description. ``size`` (a function of the block's array lengths) makes it an array state."""
+    tolerance), description. ``size`` (a function of the block's array lengths) makes it an array state.
+
+    ``scale_of`` (generic "SI" states only) names the signal port whose quantity the state carries: where
+    the netlist fixes that quantity's dimension, the state's nominal is that dimension's nominal magnitude
+    (:mod:`blocks.compiler.signal_scale`: a flow's 1e-4 m^3/s, a pressure's 1 bar), else ``nominal``."""
 
     name: str
     unit: str
@@ -155,6 +159,7 @@ class State:
     nominal: float
     description: str
     size: Callable[[dict[str, int]], int] | None = None
+    scale_of: str | None = None
 
 
 def fluid_params() -> tuple[Param, ...]:
@@ -182,6 +187,10 @@ class Block:
     """Generic ("SI") signal ports whose dimension is that of parameters as written: a constant's output
     is in its ``value``'s unit, a lookup table's input in its breakpoints'. A netlist whose port on the net
     declares another dimension is refused (a constant of "6 bar" driving a flow source's ``q``)."""
+    same_quantity: ClassVar[tuple[tuple[str, ...], ...]] = ()
+    """Groups of generic signal ports that carry the same quantity (a filter's input and output, a sum's
+    inputs and output): the nets they join share one nominal magnitude (:mod:`blocks.compiler.signal_scale`).
+    Only blocks that pass a quantity through declare it; a gain, product, integrator or table does not."""
     rigid_link: ClassVar[tuple[str, str] | None] = None
     """(a, b): the two ports are joined rigidly, w_b = ratio(params) * w_a (gears, rack and pinion)."""
     outputs: ClassVar[Callable | None] = None
@@ -299,6 +308,7 @@ def check_declarations(cls: type[Block]) -> None:
         declared.add(s.name, "state", owner)
         if s.size is not None:
             declared.add(f"der_{s.name}", "state derivative", owner)
+    _check_signal_scale(cls, owner)
     for name in cls.prescribes:
         if name not in {p.name for p in cls.physical_ports()}:
             raise TypeError(f"{owner}: prescribes unknown physical port '{name}'")
@@ -332,3 +342,17 @@ def check_declarations(cls: type[Block]) -> None:
             problem = p.check(p.default)
             if problem:
                 raise TypeError(f"{owner}: default out of bounds: {problem}")
+
+
+def _check_signal_scale(cls: type[Block], owner: str) -> None:
+    """A state's ``scale_of`` and the ports of ``same_quantity`` must be generic signal ports of the block."""
+    generic = {p.name for p in cls.ports if p.kind is PortKind.SIGNAL and p.unit == "SI"}
+    for s in cls.states:
+        if s.scale_of is not None and (s.unit != "SI" or s.scale_of not in generic):
+            raise TypeError(f"{owner}: state '{s.name}' takes the scale of '{s.scale_of}', which needs a generic "
+                            f"(SI) state and a generic signal port of that name")
+    for group in cls.same_quantity:
+        unknown = [name for name in group if name not in generic]
+        if len(group) < 2 or unknown:
+            raise TypeError(f"{owner}: same_quantity group {group} needs two or more generic signal ports "
+                            f"(not {unknown})")

@@ -108,7 +108,10 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Simulation", "solver"): "The integrator: see [Solvers](#solvers) (`--solver` overrides it).",
     ("Simulation", "rtol"): "Relative tolerance of the variable-step solvers.",
     ("Simulation", "atol"): "Absolute tolerance, relative to each state's nominal size (1 bar for a pressure, "
-                            "1 rad/s for a speed, a block's declared nominal for its states).",
+                            "1 rad/s for a speed, a block's declared nominal for its states; a generic signal "
+                            "block's state, a filter's or an integrator's, takes the nominal of the quantity its "
+                            "signal carries where a port's unit or a value written in a unit fixes it: 1e-4 "
+                            "m^3/s for a flow, 1 bar for a pressure).",
     ("Simulation", "fixed_step"): "Step [s] of the `fixed` solver (required by it, ignored by the others).",
     ("Simulation", "max_step"): "Largest step [s] the variable-step solvers may take (default: unlimited).",
     ("Simulation", "max_steps"): "The run fails after this many steps.",
@@ -172,6 +175,8 @@ def block_reference(cls: type[Block], level: int = 2) -> str:
         lines.append(f"Prescribes the across variable of: {', '.join(f'`{p}`' for p in cls.prescribes)}.")
     if cls.rigid_link:
         lines.append(f"Rigid link: `{cls.rigid_link[1]}` moves at ratio(params) times `{cls.rigid_link[0]}`.")
+    for group in cls.same_quantity:
+        lines.append(f"{', '.join(f'`{p}`' for p in group)} carry the same quantity (one tolerance scale).")
     for port, given_by in cls.signal_dimensions.items():
         lines.append(f"`{port}` is in the dimension {' and '.join(f'`{g}`' for g in given_by)} "
                      f"{'is' if len(given_by) == 1 else 'are'} written in; a port on its net that declares another "

@@ -4,7 +4,9 @@
 - Rotational and translational nets joined by rigid links (gears, rack and pinion) form one rigid body
   with one speed state w of its root net; net k moves at r_k * w, its inertia counts r_k^2 * J_k, its
   torques r_k * tau_k (virtual power). A speed source on any net of the body prescribes it instead.
-- Each block's own states follow.
+- Each block's own states follow, with their declared nominal magnitudes; a generic signal block's state
+  (a filter's, an integrator's) takes the nominal of the quantity its signal carries where the netlist fixes
+  it (:mod:`blocks.compiler.signal_scale`: a filter on a flow 1e-4 m^3/s, not 1).
 - The direct-feedthrough graph (networkx) has an edge from a block to every block whose outputs read
   what it produces (a signal, or a prescribed across value); a cycle is an algebraic loop, reported by
   the names of the blocks in it.
@@ -17,10 +19,14 @@ from dataclasses import dataclass, field
 import networkx as nx
 
 from blocks.block import ACROSS, CAPACITY, Block, PortKind
+from blocks.compiler.signal_scale import net_scales, state_nominal
 from blocks.netlist.flatten import NET_BOUNDS, FlatCircuit, FlatComponent, FlatNet
 from blocks.netlist.parameters import Entry, make_entry
+from blocks.nominal import nominal_magnitude
+from blocks.units import parse_unit
 
-PHYSICAL_STATE_NOMINAL = {PortKind.HYDRAULIC: 1e5, PortKind.ROTATIONAL: 1.0, PortKind.TRANSLATIONAL: 0.1}
+PHYSICAL_STATE_NOMINAL = {kind: nominal_magnitude(parse_unit(unit)) for kind, (_, unit) in ACROSS.items()}
+"""A net's pressure 1e5 Pa, a body's speed 1 rad/s or 0.1 m/s (:data:`blocks.nominal.NOMINAL_MAGNITUDE`)."""
 
 
 @dataclass
@@ -97,7 +103,18 @@ def analyse(circuit: FlatCircuit) -> Structure:
         st.block_states[name] = slots
     _theta_layout(st)
     st.order = _evaluation_order(st)
+    _scale_signal_states(st)
     return st
+
+
+def _scale_signal_states(st: Structure) -> None:
+    """A generic block state that names its signal's port takes that signal's nominal magnitude, where known
+    (after the parameters are evaluated and the order is found, so that their errors come first)."""
+    scales = net_scales(st.circuit)
+    for name, comp in st.circuit.components.items():
+        for state in comp.cls.states:
+            slot = st.block_states[name][state.name]
+            slot.nominal = state_nominal(state, name, st.port_net, scales)
 
 
 def _add_state(st: Structure, name, size, unit, nominal, owner, kind) -> StateSlot:

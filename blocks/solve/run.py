@@ -6,7 +6,10 @@
 - ``lsoda``, ``bdf``, ``radau``: scipy's ``solve_ivp`` on the same compiled rhs, for comparison; BDF and
   Radau receive the Jacobian's sparsity from the netlist graph.
 The absolute tolerance of each state is ``atol`` times the state's nominal magnitude (1 bar for a
-pressure, 1 rad/s for a speed...), so one number suits states of very different sizes.
+pressure, 1 rad/s for a speed...), so one number suits states of very different sizes. A generic signal
+block's state (a filter's, an integrator's, declared "SI" with nominal 1) has the nominal of the quantity
+its signal carries where the netlist fixes it (:mod:`blocks.compiler.signal_scale`, from the table
+:data:`blocks.nominal.NOMINAL_MAGNITUDE`: a flow 1e-4 m^3/s, a pressure 1e5 Pa), else its declared one.
 Every variable-step solver lands a step on each time an input jumps or kinks (``Circuit.breakpoints``: a
 step's time, a profile's points): rodas ends a step there; the scipy solvers are restarted there, at most
 100 times a run (:func:`_restarts`).
@@ -45,7 +48,8 @@ def output_times(settings: SolverSettings) -> np.ndarray:
 
 
 def nominal_vector(circuit) -> np.ndarray:
-    """Each state's nominal magnitude (1 bar for a pressure, 1 rad/s for a speed...), SI."""
+    """Each state's nominal magnitude (1 bar for a pressure, 1 rad/s for a speed, a signal block's state
+    its signal's: :mod:`blocks.compiler.signal_scale`), SI."""
     return np.concatenate([np.full(s.size, float(s.nominal)) for s in circuit.structure.states]) \
         if circuit.structure.states else np.zeros(0)
 

@@ -14,6 +14,8 @@ cannot forget one of it:
 - honest feedthrough: every input that ``outputs`` takes (its declared direct feedthrough) does change
   an output at some tried operating point; an input it does not take cannot, by construction;
 - numba: both equation functions compile with ``numba.njit`` and agree with the Python call;
+- tolerance scale: every generic ("SI") state names the signal port whose quantity it carries
+  (``State.scale_of``, so that its absolute tolerance is that quantity's), or is listed with a reason;
 - the registry: names are unique, and registering a block whose function takes an undeclared name fails.
 """
 
@@ -29,7 +31,7 @@ import numpy as np
 import pytest
 
 from blocks import registry
-from blocks.block import CAPACITY, Block, Param, argument_names, signal_in, signal_out
+from blocks.block import CAPACITY, Block, Param, State, argument_names, check_declarations, signal_in, signal_out
 from blocks.netlist.spec import Fluid
 from blocks.units import parse_unit, quantity
 
@@ -59,6 +61,14 @@ DEFAULT_TABLE = (0.0, 1.0, 2.0)  # an array parameter nobody chose a value for: 
 # Inputs a block reads in `outputs` although changing them changes no output at any tried point, each with
 # the reason it is still right to declare it. Empty: every declared feedthrough was found to be real.
 FEEDTHROUGH_EXCEPTIONS: dict[tuple[str, str], str] = {}
+
+# Generic ("SI") states that name no port for their tolerance scale (they keep their declared nominal 1),
+# each with the reason no port's quantity is theirs.
+UNSCALED_STATES: dict[tuple[str, str], str] = {
+    ("transfer_function", "x"): "the canonical-form state x[k] is u filtered by s^(n-1-k)/den(s): its size "
+                                "is u's times den's coefficients' units and values, not u's quantity",
+    ("transfer_function_strict", "x"): "as transfer_function's",
+}
 
 HYDRAULIC_BASE = (50e5, 20e5, 35e5, 5e5)  # the k-th hydraulic port of a block (cycled)
 SIGNAL_SPREAD = (0.5, -0.3, 1.7, 0.9, -1.1)  # the k-th signal input at the second operating point
@@ -334,6 +344,57 @@ def test_feedthrough_is_honest(name):
 def test_feedthrough_exceptions_are_current():
     for (name, input_name), reason in FEEDTHROUGH_EXCEPTIONS.items():
         assert name in TYPES and input_name in TYPES[name].feedthrough() and reason
+
+
+# ---------------------------------------------------------------- tolerance scale
+@pytest.mark.parametrize("name", NAMES)
+def test_a_generic_state_names_the_port_whose_scale_it_has(name):
+    cls = TYPES[name]
+    generic_signals = {p.name for p in cls.ports if p.direction is not None and p.unit == "SI"}
+    for s in cls.states:
+        if s.unit != "SI":
+            assert s.scale_of is None, f"{name}.{s.name} is declared in {s.unit}: its nominal is its own"
+        elif (name, s.name) in UNSCALED_STATES:
+            assert s.scale_of is None, f"{name}.{s.name} names a port: drop it from UNSCALED_STATES"
+        else:
+            assert s.scale_of in generic_signals, (
+                f"{name}.{s.name} is a generic (SI) state: name the generic signal port whose quantity it "
+                f"carries (State(..., scale_of=...)) so that its tolerance is that quantity's, or list it in "
+                f"UNSCALED_STATES with the reason")
+    for group in cls.same_quantity:
+        assert len(group) >= 2 and set(group) <= generic_signals, f"{name}: same_quantity {group}"
+
+
+@pytest.mark.parametrize("states, same_quantity, message", [
+    ((State("x", "SI", 0.0, 1.0, "state", scale_of="v"),), (), "takes the scale of 'v'"),
+    ((State("x", "m", 0.0, 0.1, "state", scale_of="u"),), (), "needs a generic"),
+    ((), (("u", "w"),), "same_quantity"),
+    ((), (("u",),), "same_quantity"),
+])
+def test_a_scale_must_name_generic_signal_ports(states, same_quantity, message):
+    class Scaled(Block):
+        """Throwaway block for the scale declarations: y = u.
+
+        y = u
+        """
+
+        ports = (signal_in("u", "input"), signal_out("y", "output"))
+
+        @staticmethod
+        def outputs(u):
+            return (u,)
+
+    Scaled.states, Scaled.same_quantity = states, same_quantity
+    if states:
+        Scaled.derivatives = staticmethod(lambda u: (u,))
+    with pytest.raises(TypeError, match=message):
+        check_declarations(Scaled)
+
+
+def test_unscaled_states_are_current():
+    for (name, state), reason in UNSCALED_STATES.items():
+        assert name in TYPES and reason
+        assert any(s.name == state and s.unit == "SI" for s in TYPES[name].states), (name, state)
 
 
 # ---------------------------------------------------------------- numba

@@ -14,6 +14,7 @@ class DeadBand(Block):
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "input minus the dead band"))
+    same_quantity = (("u", "y"),)
     signal_dimensions = {"u": ("lower", "upper"), "y": ("lower", "upper")}
     params = (
         Param("lower", "SI", None, None, None, "lower edge of the band (SI)"),

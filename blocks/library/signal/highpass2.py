@@ -14,16 +14,19 @@ class Highpass2(Block):
     since 1 - L(s) - (2*zeta/wn)*s*L(s) = s^2/(s^2 + 2*zeta*wn*s + wn^2) with L the low-pass.
     States x and dx start at 0; direct feedthrough of u (a step passes straight through).
     Units: wn in rad/s; u and y in one (SI) unit.
+    Tolerance: x and dx have the nominal magnitude of u's quantity where the netlist fixes it (dx, a rate,
+    keeps x's: a stricter tolerance than it needs, which costs only steps), else 1.
     """
 
     ports = (signal_in("u", "signal to filter"), signal_out("y", "high-passed signal"))
+    same_quantity = (("u", "y"),)
     params = (
         Param("wn", "rad/s", None, 1e-6, None, "corner (natural) angular frequency"),
         Param("zeta", "1", 0.7071067811865476, 0.0, None, "damping ratio (1/sqrt(2): Butterworth)"),
     )
     states = (
-        State("x", "SI", 0.0, 1.0, "low-pass part of the input"),
-        State("dx", "SI", 0.0, 1.0, "time derivative of the low-pass part"),
+        State("x", "SI", 0.0, 1.0, "low-pass part of the input", scale_of="u"),
+        State("dx", "SI", 0.0, 1.0, "time derivative of the low-pass part", scale_of="u"),
     )
 
     @staticmethod

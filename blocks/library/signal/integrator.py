@@ -15,6 +15,7 @@ class Integrator(Block):
     input reverses. The initial value is the start of state x (should lie in [y_min, y_max]). With the
     default limits (+-1e300) the block is a plain integrator; no direct feedthrough.
     Units: k in 1/s when u and y share a unit (in general unit(y)/(unit(u)*s)); y, x, y_min, y_max in y's (SI).
+    Tolerance: x has the nominal magnitude of y's quantity where the netlist fixes it, else 1.
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "integral of k*u, limited"))
@@ -23,7 +24,7 @@ class Integrator(Block):
         Param("y_min", "SI", -UNLIMITED, None, None, "lower output limit (SI; default unlimited)"),
         Param("y_max", "SI", UNLIMITED, None, None, "upper output limit (SI; default unlimited)"),
     )
-    states = (State("x", "SI", 0.0, 1.0, "integral of k*u (the initial value is its start)"),)
+    states = (State("x", "SI", 0.0, 1.0, "integral of k*u (the initial value is its start)", scale_of="y"),)
 
     @staticmethod
     def outputs(x, y_min, y_max):

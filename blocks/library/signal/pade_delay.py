@@ -17,16 +17,19 @@ class PadeDelay(Block):
     "no delay", so calibration can insert the block with a zero parameter; the jump at T_min is
     O(T_min*du/dt). States start at rest (0): give u(0) = 0 or expect a start transient of length ~T.
     Units: T in s; y in the unit of u (SI).
+    Tolerance: x1 and x2 have the nominal magnitude of u's quantity where the netlist fixes it (x2, a rate,
+    keeps x1's: a stricter tolerance than it needs, which costs only steps), else 1.
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "the input delayed by about T"))
+    same_quantity = (("u", "y"),)
     params = (
         Param("T", "s", 0.0, 0.0, 100.0, "delay time"),
         Param("T_min", "s", 1e-5, 1e-9, 1.0, "below this delay the block passes u through (regularisation)"),
     )
     states = (
-        State("x1", "SI", 0.0, 1.0, "filter state: u filtered by 1/(1 + sT/2 + (sT)^2/12)"),
-        State("x2", "SI", 0.0, 1.0, "time derivative of x1"),
+        State("x1", "SI", 0.0, 1.0, "filter state: u filtered by 1/(1 + sT/2 + (sT)^2/12)", scale_of="u"),
+        State("x2", "SI", 0.0, 1.0, "time derivative of x1", scale_of="u"),
     )
 
     @staticmethod

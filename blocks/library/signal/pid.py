@@ -24,6 +24,7 @@ class PID(Block):
     takes Kaw = 0. Direct feedthrough of e (through Kp and Kd).
     Units: Kp in unit(y)/unit(e), Ki in that per s, Kd in that times s; Tf in s, Kaw in 1/s; y, u_min, u_max
     and xi in y's (SI) unit, xd in e's.
+    Tolerance: xi has the nominal magnitude of y's quantity, xd that of e's, where the netlist fixes it, else 1.
     """
 
     ports = (signal_in("e", "control error (reference - measurement)"), signal_out("y", "controller output"))
@@ -37,8 +38,9 @@ class PID(Block):
         Param("Kaw", "1/s", 1.0, 0.0, None, "back-calculation anti-windup gain (0: none; acts with Ki = 0 too)"),
     )
     states = (
-        State("xi", "SI", 0.0, 1.0, "integral part of the output (its start is the initial integral action)"),
-        State("xd", "SI", 0.0, 1.0, "error low-passed by the derivative filter"),
+        State("xi", "SI", 0.0, 1.0, "integral part of the output (its start is the initial integral action)",
+              scale_of="y"),
+        State("xd", "SI", 0.0, 1.0, "error low-passed by the derivative filter", scale_of="e"),
     )
 
     @staticmethod

@@ -15,6 +15,7 @@ class Saturation(Block):
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "limited input"))
+    same_quantity = (("u", "y"),)
     signal_dimensions = {"u": ("lower", "upper"), "y": ("lower", "upper")}
     params = (
         Param("lower", "SI", None, None, None, "lower limit (SI)"),

@@ -12,6 +12,8 @@ class SecondOrder(Block):
     d2x/dt2 + 2*zeta*wn*dx/dt + wn^2*x = wn^2*k*u,   y = x
     States x (= y) and dx (= dy/dt), both starting at 0; no direct feedthrough.
     Units: wn in rad/s, zeta and k dimensionless; y in the unit of u times k's (SI).
+    Tolerance: x and dx have the nominal magnitude of y's quantity where the netlist fixes it (dx, a rate,
+    keeps x's: a stricter tolerance than it needs, which costs only steps), else 1.
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "output"))
@@ -21,8 +23,8 @@ class SecondOrder(Block):
         Param("k", "SI", 1.0, None, None, "static gain"),
     )
     states = (
-        State("x", "SI", 0.0, 1.0, "output y"),
-        State("dx", "SI", 0.0, 1.0, "time derivative of the output"),
+        State("x", "SI", 0.0, 1.0, "output y", scale_of="y"),
+        State("dx", "SI", 0.0, 1.0, "time derivative of the output", scale_of="y"),
     )
 
     @staticmethod

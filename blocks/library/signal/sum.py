@@ -18,6 +18,7 @@ class Sum(Block):
         signal_in("u3", "third input (0 if unconnected)", optional=True),
         signal_out("y", "weighted sum"),
     )
+    same_quantity = (("u1", "u2", "u3", "y"),)
     params = (
         Param("k1", "SI", 1.0, None, None, "gain (sign) of u1"),
         Param("k2", "SI", 1.0, None, None, "gain (sign) of u2"),

@@ -18,6 +18,7 @@ class Switch(Block):
         signal_in("u2", "passed while control < threshold"),
         signal_out("y", "the selected input"),
     )
+    same_quantity = (("u1", "u2", "y"),)
     params = (Param("threshold", "SI", 0.5, None, None, "switching threshold on control (SI)"),)
 
     @staticmethod
