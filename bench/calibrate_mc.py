@@ -611,7 +611,7 @@ def table(results: list[dict]) -> str:
              + " (The exchange check's margin, a swap must lower BIC by over 1, came after a first run in which "
              "`time_two` swapped the delay on the command for the same delay on the spool, at dBIC -0.0, in 4 "
              "seeds; those 4 seeds were rerun with it.) "
-             + " ".join(p for p in (_scaled_fit(), _restarts(), _stuck_refits()) if p),
+             + " ".join(p for p in (_scaled_fit(), _restarts(), _stuck_refits(), _landed_steps()) if p),
              ""] + case_rows(results) + [""] + rec_misses(results)
     lines += ["", "Per-seed records: bench/records/results.jsonl. Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
@@ -1123,6 +1123,44 @@ def _stuck_refits() -> str:
             + _count(moved, "seed") + ("; " + ", ".join(changes) if changes else ", and no column's count changed")
             + (f"; the {_count(len(after_dbic), 'refit')} whose dBIC moved by over 1 had dBIC "
                f"{_span(before_dbic)} before and {_span(after_dbic)} now" if after_dbic else "") + ".")
+
+
+def _landed_steps() -> str:
+    """Session 21's solver change against the records made before it: the seeds rerun with it
+    (bench/records/archive/s21_breakpoints.jsonl holds each seed's record and its rerun, the compared keys)."""
+    rows = _archived("s21_breakpoints.jsonl")
+    if not rows:
+        return ""
+    names = {}
+    for r in rows:
+        names.setdefault(_row_name(RECORDS / r["file"], r["case"]), []).append(str(r["seed"]))
+    moved = [r for r in rows if sorted(r["before"]["accepted"]) != sorted(r["after"]["accepted"])]
+    judged = [r for r in rows if r["before"]["found"] != r["after"]["found"]]
+    verdicts = [r for r in rows if r["before"]["unexplained"] != r["after"]["unexplained"]]
+
+    def most(key: str) -> str:
+        return f"{max(abs(r['after'][key] - r['before'][key]) for r in rows):.2g}"
+
+    shifts = [abs(r["after"]["estimates"][k][0] - value) / se for r in rows
+              for k, (value, se) in (r["before"]["estimates"] or {}).items()
+              if k in (r["after"]["estimates"] or {}) and se]
+    changes = "; ".join(f"{_row_name(RECORDS / r['file'], r['case'])} {r['seed']}: "
+                        f"{', '.join(sorted(r['before']['accepted']))} -> {', '.join(sorted(r['after']['accepted']))}"
+                        for r in moved)
+    return ("Session 21: the solver lands a step on each time an input jumps or kinks (a step's time, a "
+            "profile's points where its slope changes; blocks/solve/rosenbrock.py). Before, a step could be "
+            "longer than a pulse of the input and pass over it unseen. The records above were made before it. "
+            "Rerun with it (" + "; ".join(f"{name} {', '.join(seeds)}" for name, seeds in names.items())
+            + "; bench/records/archive/s21_breakpoints.jsonl holds each seed's record and its rerun): the "
+            "accepted effects changed in " + _count(len(moved), "seed") + (f" ({changes})" if moved else "")
+            + (" (a delay on the command u and one on the spool's output xs, on either side of the spool's "
+               "linear filter, give the same response)"
+               if moved and all({"transport_delay@u", "transport_delay@xs"} <= set(r["before"]["accepted"])
+                                | set(r["after"]["accepted"]) for r in moved) else "")
+            + ", the right column's judgement in " + _count(len(judged), "seed") + ", the verdict in "
+            + _count(len(verdicts), "seed") + "; chi^2/nu moved by at most " + most("chi2nu_after")
+            + ", the held-out ratio by at most " + most("heldout_ratio") + ", an estimate by at most "
+            + (f"{max(shifts):.2g}" if shifts else "0") + " of its standard error.")
 
 
 def _rerank(rnd: dict) -> tuple[float, bool] | None:
