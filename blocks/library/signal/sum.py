@@ -9,7 +9,10 @@ class Sum(Block):
     """Weighted sum of up to three signals: y = k1*u1 + k2*u2 + k3*u3.
 
     Sign convention: the signs are the gains, e.g. k2 = -1 forms the error e = u1 - u2. u2 and u3 are
-    optional and read 0 when unconnected. Units: all inputs and y in the same (SI) unit; k1..k3 dimensionless.
+    optional and read 0 when unconnected. Units: y in SI; each k_i dimensionless where u_i is in y's unit,
+    else the unit that converts it (a feed-forward Kv in s/m turns a velocity into a valve command). The
+    solver's tolerance takes the inputs and y as one quantity: the smallest nominal among them
+    (:mod:`blocks.compiler.signal_scale`).
     """
 
     ports = (
