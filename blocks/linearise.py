@@ -15,8 +15,8 @@ Derivatives are central differences: state j is moved by h_j = 1e-6 * max(|x_j|,
 magnitude (1 bar for a pressure); an input by 1e-6 * |u|, or at u = 0 by 1e-6 of the larger magnitude of
 its declared bounds (1e-6 in SI when it has none), one-sided where a step would leave its bounds. An entry
 of [A, B] (or [C, D]) within 100 times the rounding of its difference, eps times its row's terms over its
-step, is set to 0 (:func:`_drop_round_off`). The model
-holds t fixed at t*: the inputs that are functions of time (steps, profiles) are held at their values there.
+step, is set to 0 (:func:`_drop_round_off`). The model holds t fixed at t*: the inputs that are
+functions of time (steps, profiles) are held at their values there.
 
 Modes. The eigenvalues lambda_k of A (computed on A scaled by the states' nominal magnitudes,
 S^-1 A S, which has the same eigenvalues and is better conditioned: a circuit's rates span from a spool's
@@ -258,8 +258,8 @@ def _eig(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def frequency_response(model: LinearModel, frequencies_hz: np.ndarray) -> np.ndarray:
-    """G(j*2*pi*f) = C (j*w*I - A)^-1 B + D for each frequency [Hz] (:func:`_through_states`: a part under
-    its rounding is 0): an array (frequencies, outputs, inputs), complex, SI."""
+    """G(j*2*pi*f) = C (j*w*I - A)^-1 B + D for each frequency [Hz] (:func:`_through_states`: a part the
+    model does not determine is 0): an array (frequencies, outputs, inputs), complex, SI."""
     A, B, C = _scaled(model)
     n = A.shape[0]
     response = np.empty((len(frequencies_hz), model.C.shape[0], model.B.shape[1]), dtype=complex)
@@ -275,8 +275,8 @@ def steady_gain(model: LinearModel) -> tuple[np.ndarray, np.ndarray]:
     """The gain at zero frequency per output and input (SI), and why there is none where there is not.
 
     For each pair, on the states the input reaches and the output sees (:func:`_reaching`; the rest cannot
-    take part), A_r, B_r, C_r: G(0) = D - C_r A_r^-1 B_r, by a solve (:func:`_through_states`: a part under
-    its rounding is 0). Modes at 0 (integrators, |lambda| <= 1e-12 times the largest) are taken out first:
+    take part), A_r, B_r, C_r: G(0) = D - C_r A_r^-1 B_r, by a solve (:func:`_through_states`: a part the
+    model does not determine is 0). Modes at 0 (integrators, |lambda| <= 1e-12 times the largest) are taken out first:
     with P0 the projector onto their eigenvectors along the others, G(0) = D - C_r (A_r + P0)^-1 (I - P0) B_r,
     A_r on the other modes. Returns (gain, why), why per pair "" (a gain), GAIN_INTEGRATES (a mode at 0 that
     the input drives and the output sees: the output integrates the input, gain NaN), GAIN_UNCOUPLED (the
@@ -393,21 +393,14 @@ def _drop_round_off(on_states: np.ndarray, on_inputs: np.ndarray, steps: np.ndar
     on_inputs[rounding[:, n:]] = 0.0
 
 
-def _input_size(circuit, name: str, value: float) -> float:
-    """What an input's difference step is relative to: |value|, at 0 the larger magnitude of its declared
-    bounds, else 1 (SI)."""
-    bounds = circuit.flat.parameters.entries[name].bounds
-    ends = [abs(b) for b in (getattr(bounds, "lower", None), getattr(bounds, "upper", None)) if b]
-    return abs(value) if value != 0.0 else max(ends) if ends else 1.0
-
-
 def _input_span(circuit, name: str, value: float) -> tuple[float, float]:
-    """The two values of an input the difference is taken between: value -+ h, h = 1e-6 of its size
-    (:func:`_input_size`); one-sided (value itself on one end) where a step would leave the declared
-    bounds (an efficiency at 1)."""
+    """The two values of an input the difference is taken between: value -+ h, h = 1e-6 of the value (at 0,
+    of the larger magnitude of its declared bounds, else of 1 in SI); one-sided (value itself on one end)
+    where a step would leave the declared bounds (an efficiency at 1)."""
     bounds = circuit.flat.parameters.entries[name].bounds
     lower, upper = getattr(bounds, "lower", None), getattr(bounds, "upper", None)
-    h = STATE_STEP * _input_size(circuit, name, value)
+    ends = [abs(b) for b in (lower, upper) if b]
+    h = STATE_STEP * (abs(value) if value != 0.0 else max(ends) if ends else 1.0)
     low, high = value - h, value + h
     if upper is not None and high > upper:
         high = value
