@@ -627,7 +627,8 @@ def cmd_linearise(args) -> int:
             print(line)
     for name in [n for k, n in enumerate(inputs) if not model.B[:, k].any() and not model.D[:, k].any()]:
         print(f"vphs: warning: --input {name} moves nothing at this operating point (to first order: it sets "
-              f"an initial value, acts only elsewhere in time, or is a mass with no net force on it?)", file=sys.stderr)
+              f"an initial value, acts only elsewhere in time, or is a mass with no net force on it?)",
+              file=sys.stderr)
     writes = []
     if args.modes:
         text = report.modes_csv(found)
