@@ -44,7 +44,7 @@ import scipy.linalg
 from blocks.errors import SimulationError, VphsError
 
 STATE_STEP = 1e-6  # relative central-difference step (the optimum for central differences is ~eps^(1/3))
-PERTURBATION = 1e-12  # relative change of the linear model's entries that a response must survive (_through_states)
+PERTURBATION = 1e-10  # relative change of the linear model's entries that a response must survive (_through_states)
 ROUND_OFF = 100 * np.finfo(float).eps  # an entry times its step under this times its row's terms is rounding
 INTEGRATOR = 1e-12  # an eigenvalue below this fraction of the largest is taken as 0 (eig's rounding: ~1e-14)
 
@@ -263,8 +263,10 @@ def frequency_response(model: LinearModel, frequencies_hz: np.ndarray) -> np.nda
     A, B, C = _scaled(model)
     n = A.shape[0]
     response = np.empty((len(frequencies_hz), model.C.shape[0], model.B.shape[1]), dtype=complex)
+    through = np.array([[_reaching(A, B[:, b], C[a]).any() for b in range(B.shape[1])] for a in range(C.shape[0])],
+                       dtype=bool).reshape(model.D.shape)  # an input that reaches no state the output reads: 0
     for i, f in enumerate(frequencies_hz):
-        response[i] = _through_states(2j * math.pi * f * np.eye(n) - A, B, C) + model.D
+        response[i] = np.where(through, _through_states(2j * math.pi * f * np.eye(n) - A, B, C), 0.0) + model.D
     return response
 
 
@@ -323,8 +325,8 @@ def _through_states(M: np.ndarray, B: np.ndarray, C: np.ndarray) -> np.ndarray:
     """C M^-1 B, with each part that the model does not determine set to 0.
 
     The entries of M and B are differences, good to about 1e-10 of themselves. A part that moves by more
-    than a tenth of itself when they move by 1e-12 (each entry scaled by 1 +- 1e-12, signs fixed and
-    random) is the solve's rounding of a cancellation, not a response: a symmetric piston fed the same
+    than a tenth of itself when they move by that much (each entry scaled by 1 +- 1e-10, signs fixed and
+    random) is not determined by them: the rounding of a cancellation, not a response: a symmetric piston fed the same
     pressure on both sides read 1e-25 mm/Pa at a random phase. A small part computed accurately stays:
     eight low-passes in series at 100 times their corner give 1e-16 of their input."""
     through = C @ np.linalg.solve(M, B)
@@ -378,15 +380,16 @@ def _drop_round_off(on_states: np.ndarray, on_inputs: np.ndarray, steps: np.ndar
     """Set to 0, in place, the entries of M = [on_states, on_inputs] (A and B, or C and D) that are the
     central differences' rounding, not a coupling.
 
-    Row i's terms are about T_i = max(|f_i|, max_j |M_ij v_j|) in size (``at_point`` f_i at the point, v_j
-    each state's and input's value there). A difference over a step h_j (``steps``) rounds by about
-    eps*T_i/h_j; an entry within 100 times that is the rounding, and is 0. (A load mass on a body at rest
+    Row i's terms are about T_i = max(|f_i|, max_j |M_ij|*(|v_j| + h_j)) in size where the differences
+    evaluate it (``at_point`` f_i at the point, v_j each state's and input's value there, h_j its step,
+    ``steps``). A difference over h_j rounds by about eps*T_i/h_j; an entry within 100 times that is the
+    rounding, and is 0. (A load mass on a body at rest
     with no net force on it read 4.6e-37 (m/s^2)/kg, and a pressure per kg of 2e-37 bar followed; a command
     of 1e-9, or a gain of 1e-9 between two filters, is a coupling of its own size and is kept.)"""
     M = np.hstack([on_states, on_inputs])
     if M.size == 0:
         return
-    terms = np.maximum(np.abs(at_point), np.max(np.abs(M) * np.abs(values)[None, :], axis=1))
+    terms = np.maximum(np.abs(at_point), np.max(np.abs(M) * (np.abs(values) + steps)[None, :], axis=1))
     rounding = np.abs(M) * steps[None, :] <= ROUND_OFF * terms[:, None]
     n = on_states.shape[1]
     on_states[rounding[:, :n]] = 0.0

@@ -73,16 +73,17 @@ SCIPY_RESTARTS = 100  # at most this many restarts of a scipy solver per run
 
 
 def _restarts(stops: np.ndarray, t_start: float, t_end: float) -> np.ndarray:
-    """The stops a scipy solver is restarted at: each at least (t_end - t_start)/SCIPY_RESTARTS after the
-    previous one (and the start), and as far before the end. A multistep method restarts at order 1, so a
-    restart at each of a recorded profile's 2000 points cost it 40 times the time and 50 times the error,
-    and two stops one rounding apart left it a span it could not step."""
-    spacing = (t_end - t_start) / SCIPY_RESTARTS
-    kept, last = [], t_start
+    """The stops a scipy solver is restarted at: the first, then each at least (t_end - t_start)/
+    SCIPY_RESTARTS after the one kept before it; none within 1e-9 of the run of its start or end. A
+    multistep method restarts at order 1, so a restart at each of a recorded profile's 2000 points cost it
+    40 times the time and 50 times the error, and two stops one rounding apart left it a span it could not
+    step."""
+    span = t_end - t_start
+    spacing, edge = span / SCIPY_RESTARTS, 1e-9 * span
+    kept = []
     for stop in stops:
-        if stop - last >= spacing and t_end - stop >= spacing:
+        if stop - t_start > edge and t_end - stop > edge and (not kept or stop - kept[-1] >= spacing * (1 - 1e-9)):
             kept.append(stop)
-            last = stop
     return np.array(kept, dtype=float)
 
 

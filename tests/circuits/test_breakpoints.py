@@ -29,7 +29,8 @@ def closed_form(t: np.ndarray, t_p: float, w: float) -> np.ndarray:
 
 
 @pytest.mark.parametrize("solver", ["rodas", "lsoda", "bdf", "radau"])
-@pytest.mark.parametrize("t_p, w, t_end", [(2.23, 0.005, 5.0), (20.3, 0.6, 60.0), (300.0, 3.0, 600.0)])
+@pytest.mark.parametrize("t_p, w, t_end", [(2.23, 0.005, 5.0), (20.3, 0.6, 60.0), (300.0, 3.0, 600.0),
+                                           (0.02, 0.005, 5.0), (4.97, 0.005, 5.0)])  # near the start, the end
 def test_a_flow_pulse_between_long_steps_is_integrated(solver, t_p, w, t_end):
     circuit = Circuit.from_file(NETLIST)
     settings = circuit.settings.with_(solver=solver, t_end=t_end, dt_out=min(0.001, w / 5))

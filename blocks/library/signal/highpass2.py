@@ -15,7 +15,8 @@ class Highpass2(Block):
     States x and dx start at 0; direct feedthrough of u (a step passes straight through).
     Units: wn in rad/s; u and y in one (SI) unit.
     Tolerance: x and dx have the nominal magnitude of u's quantity where the netlist fixes it (dx, a rate,
-    keeps x's: a stricter tolerance than it needs, which costs only steps), else 1.
+    keeps x's: stricter than it needs where the rate is over 1/s, which costs only steps;
+    looser where it is slower), else 1.
     """
 
     ports = (signal_in("u", "signal to filter"), signal_out("y", "high-passed signal"))

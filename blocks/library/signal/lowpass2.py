@@ -13,7 +13,8 @@ class Lowpass2(Block):
     States x (= y) and dx (= dy/dt), both starting at 0; no direct feedthrough.
     zeta = 1/sqrt(2) is the Butterworth filter (-3 dB at wn). Units: wn in rad/s; u and y in one (SI) unit.
     Tolerance: x and dx have the nominal magnitude of u's quantity where the netlist fixes it (dx, a rate,
-    keeps x's: a stricter tolerance than it needs, which costs only steps), else 1.
+    keeps x's: stricter than it needs where the rate is over 1/s, which costs only steps;
+    looser where it is slower), else 1.
     """
 
     ports = (signal_in("u", "signal to filter"), signal_out("y", "low-passed signal"))

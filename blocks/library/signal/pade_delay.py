@@ -18,7 +18,8 @@ class PadeDelay(Block):
     O(T_min*du/dt). States start at rest (0): give u(0) = 0 or expect a start transient of length ~T.
     Units: T in s; y in the unit of u (SI).
     Tolerance: x1 and x2 have the nominal magnitude of u's quantity where the netlist fixes it (x2, a rate,
-    keeps x1's: a stricter tolerance than it needs, which costs only steps), else 1.
+    keeps x1's: stricter than it needs where the rate is over 1/s, which costs only steps;
+    looser where it is slower), else 1.
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "the input delayed by about T"))

@@ -13,7 +13,8 @@ class SecondOrder(Block):
     States x (= y) and dx (= dy/dt), both starting at 0; no direct feedthrough.
     Units: wn in rad/s, zeta and k dimensionless; y in the unit of u times k's (SI).
     Tolerance: x and dx have the nominal magnitude of y's quantity where the netlist fixes it (dx, a rate,
-    keeps x's: a stricter tolerance than it needs, which costs only steps), else 1.
+    keeps x's: stricter than it needs where the rate is over 1/s, which costs only steps;
+    looser where it is slower), else 1.
     """
 
     ports = (signal_in("u", "input"), signal_out("y", "output"))
