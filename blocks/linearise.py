@@ -263,8 +263,7 @@ def frequency_response(model: LinearModel, frequencies_hz: np.ndarray) -> np.nda
     A, B, C = _scaled(model)
     n = A.shape[0]
     response = np.empty((len(frequencies_hz), model.C.shape[0], model.B.shape[1]), dtype=complex)
-    through = np.array([[_reaching(A, B[:, b], C[a]).any() for b in range(B.shape[1])] for a in range(C.shape[0])],
-                       dtype=bool).reshape(model.D.shape)  # an input that reaches no state the output reads: 0
+    through = _through_any_state(A, B, C)  # an input that reaches no state the output reads: 0
     for i, f in enumerate(frequencies_hz):
         response[i] = np.where(through, _through_states(2j * math.pi * f * np.eye(n) - A, B, C), 0.0) + model.D
     return response
@@ -340,10 +339,13 @@ def _through_states(M: np.ndarray, B: np.ndarray, C: np.ndarray) -> np.ndarray:
 def coupled(model: LinearModel) -> np.ndarray:
     """Per output and input: does the input reach the output at all (D, or states the input moves that the
     output reads, through A's couplings)? False is an exact zero transfer function."""
-    A, B, C = _scaled(model)
-    n_out, n_in = model.D.shape
-    return np.array([[model.D[a, b] != 0.0 or _reaching(A, B[:, b], C[a]).any() for b in range(n_in)]
-                     for a in range(n_out)], dtype=bool).reshape(n_out, n_in)
+    return (model.D != 0.0) | _through_any_state(*_scaled(model))
+
+
+def _through_any_state(A: np.ndarray, B: np.ndarray, C: np.ndarray) -> np.ndarray:
+    """Per output and input: is there a state the input moves that the output reads (:func:`_reaching`)?"""
+    return np.array([[_reaching(A, B[:, b], C[a]).any() for b in range(B.shape[1])] for a in range(C.shape[0])],
+                    dtype=bool).reshape(C.shape[0], B.shape[1])
 
 
 def _reaching(A: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
