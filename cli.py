@@ -2,6 +2,7 @@
 
     vphs validate NETLIST
     vphs run NETLIST [-o results.csv] [--set name=value ...] [--plot out.png [--x SIGNAL] [--y SIGNAL ...]] [--solver S]
+                  [--t-end T] [--fixed-step H]
     vphs blocks [TYPE]
     vphs graph NETLIST [-o circuit.png]
     vphs diff SIMULATED REFERENCE.csv [--x COL] [--y COL|SIM=REF ...] [-o table.csv] [--plot overlay.png]
@@ -55,6 +56,7 @@ def build_parser() -> argparse.ArgumentParser:
                    help="a logged signal to plot (repeat for more; default: every one)")
     p.add_argument("--solver", choices=["rodas", "fixed", "lsoda", "bdf", "radau"], help="override the netlist's solver")
     p.add_argument("--t-end", help="override simulation.t_end, e.g. '5 s'")
+    p.add_argument("--fixed-step", help="override simulation.fixed_step (the fixed solver's step), e.g. '0.1 ms'")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or summary on stderr")
 
     p = sub.add_parser("blocks", help="the block catalogue, or one type in full")
@@ -299,14 +301,27 @@ def _is_number(text: str) -> bool:
         return False
 
 
-RUN_SETTING_OPTIONS = {"t_end": "--t-end", "solver": "--solver"}  # the simulation settings vphs run overrides
+RUN_SETTING_OPTIONS = {"t_end": "--t-end", "solver": "--solver", "fixed_step": "--fixed-step"}
+"""The simulation settings vphs run overrides, by the option that does it."""
+
+
+def _seconds_option(option: str, text: str) -> float:
+    """A time given on the command line ('5 s', '0.1 ms', or a number of seconds), finite, in s."""
+    import math
+
+    from blocks.units import UnitError, quantity
+
+    try:
+        seconds = quantity(float(text) if _is_number(text) else text, "s")
+    except UnitError as exc:
+        raise ArgumentError(f"vphs: {option} '{text}': {exc}") from None
+    if not math.isfinite(seconds):
+        raise ArgumentError(f"vphs: {option} '{text}': not a finite time")
+    return seconds
 
 
 def cmd_run(args) -> int:
-    import math
-
     from blocks.circuit import Circuit
-    from blocks.units import UnitError, quantity
 
     for option, given in (("-o", args.output), ("--plot", args.plot)):
         if given is not None and not given.strip():
@@ -320,16 +335,12 @@ def cmd_run(args) -> int:
     if args.solver:
         settings = settings.with_(solver=args.solver)
     if args.t_end is not None:
-        try:
-            t_end = quantity(args.t_end if not _is_number(args.t_end) else float(args.t_end), "s")
-        except UnitError as exc:
-            raise ArgumentError(f"vphs: --t-end '{args.t_end}': {exc}") from None
-        if not math.isfinite(t_end):
-            raise ArgumentError(f"vphs: --t-end '{args.t_end}': not a finite time")
-        settings = settings.with_(t_end=t_end)
+        settings = settings.with_(t_end=_seconds_option("--t-end", args.t_end))
+    if args.fixed_step is not None:
+        settings = settings.with_(fixed_step=_seconds_option("--fixed-step", args.fixed_step))
     problem = settings.problem()
     if problem:
-        raise ArgumentError(f"vphs: simulation.{problem[0]} (with --solver/--t-end): {problem[1]}")
+        raise ArgumentError(f"vphs: simulation.{problem[0]} (with --solver/--t-end/--fixed-step): {problem[1]}")
     circuit.compile(quiet=args.quiet)
     try:
         # always in slices (results do not depend on -q); progress shows only for runs longer than 1 s
@@ -591,14 +602,7 @@ def cmd_linearise(args) -> int:
     _check_signals("--output", args.output, logged, args.netlist)
     at = None
     if args.at is not None:
-        from blocks.units import UnitError, quantity
-
-        try:
-            at = quantity(float(args.at) if _is_number(args.at) else args.at, "s")
-        except UnitError as exc:
-            raise ArgumentError(f"vphs: --at '{args.at}': {exc}") from None
-        if not math.isfinite(at):
-            raise ArgumentError(f"vphs: --at '{args.at}': not a finite time")
+        at = _seconds_option("--at", args.at)
         if at < circuit.settings.t_start:
             raise ArgumentError(f"vphs: --at '{args.at}': before the simulation's start, t_start = "
                                 f"{circuit.settings.t_start:g} s in {args.netlist}")

@@ -191,6 +191,12 @@ class Circuit:
                                   f"pressure (a closed volume driven with no relief valve?)")
         if beyond:
             result.warnings.append(f"{beyond}: check the circuit (a closed volume driven with no relief valve?)")
+        if settings.solver == "fixed" and settings.fixed_step_check:
+            from blocks.solve.step_check import doubled_step_warning
+
+            moved = doubled_step_warning(self, vec, settings, outcome)
+            if moved:
+                result.warnings.append(moved)
         return result
 
     def equilibrium(self, overrides: dict[str, float] | None = None, guess: np.ndarray | None = None,

@@ -108,6 +108,7 @@ class Simulation(Strict):
     fixed_step: Value | None = None
     max_step: Value | None = None
     max_steps: Count = Field(2_000_000, gt=0)
+    fixed_step_check: bool = True
 
 
 class Netlist(Strict):

@@ -54,7 +54,9 @@ for the last step when t_out[-1] is a stop),
 and the next starts from there with the step the controller had proposed before the shortening (or
 less, as it says). These are the times an input jumps or kinks: a step is as long as the error it sees
 allows, and a pulse shorter than a step falls between its stages unseen (a 5 ms flow pulse in a 5 s run
-at rest gave 0 bar instead of 6.5). Fixed steps ignore them.
+at rest gave 0 bar instead of 6.5). Fixed steps end on them too: a stop between two points of the grid
+t0 + k*fixed_h adds a step to it, and the grid goes on after it (a flow step 0.5 s into a run at
+1 ms, 0.5 a rounding off the grid, was 1.1e-3 of its end pressure off the closed form, now 1e-12).
 
 Jacobian: forward differences, perturbation dx_j = sqrt(eps) * max(|x_j|, atol_j/rtol),
 with the sign of x_j (moves away from zero, never across it). Columns are grouped with a
@@ -643,6 +645,7 @@ def integrate(rhs, observe, x0, theta, t_out, t_stops, rtol, atol, h0, h_max, ma
                 break
             last = False
             if fixed:
+                h_free = 0.0
                 if i_fixed + 1 >= n_fixed:
                     t_new = tf
                     last = True
@@ -651,6 +654,12 @@ def integrate(rhs, observe, x0, theta, t_out, t_stops, rtol, atol, h0, h_max, ma
                     if t_new >= tf:
                         t_new = tf
                         last = True
+                if next_stop < n_stops and t_stops[next_stop] < tf - 2.0 * hmin_tf \
+                        and t_stops[next_stop] <= t_new + 2.0 * hmin_tf:
+                    h_free = fixed_h  # ends on the stop: its c = 1 stages just before it
+                    if t_stops[next_stop] < t_new - 2.0 * hmin_tf:
+                        t_new = t_stops[next_stop]  # a stop between grid points: the grid goes on after it
+                        last = False
                 h = t_new - t
             else:
                 if h > hmax:
@@ -737,7 +746,8 @@ def integrate(rhs, observe, x0, theta, t_out, t_stops, rtol, atol, h0, h_max, ma
                     next_stop += 1
                 need_jac = True
                 if fixed:
-                    i_fixed += 1
+                    if t >= t0 + (i_fixed + 1) * fixed_h - 2.0 * hmin_tf:
+                        i_fixed += 1
                 else:
                     errc = max(err, 1e-10)
                     fac = _ROS_SAFE * errc ** -0.25

@@ -2,7 +2,8 @@
 
 - ``rodas`` (default): the compiled Rosenbrock method of :mod:`blocks.solve.rosenbrock`, variable step,
   L-stable (hydraulic circuits are stiff), finite-difference Jacobian grouped by the netlist's sparsity.
-- ``fixed``: the same method at a fixed step, no error control.
+- ``fixed``: the same method at a fixed step, no error control (its steps end on the breakpoints too, and
+  the run's slices on its grid; :mod:`blocks.solve.step_check` repeats it at twice the step to warn).
 - ``lsoda``, ``bdf``, ``radau``: scipy's ``solve_ivp`` on the same compiled rhs, for comparison; BDF and
   Radau receive the Jacobian's sparsity from the netlist graph.
 The absolute tolerance of each state is ``atol`` times the state's nominal magnitude (1 bar for a
@@ -116,6 +117,8 @@ def _solve_compiled(circuit, vec, settings, t_out, stops, atol, progress) -> Out
     X, Y = np.full((K, n), np.nan), np.full((K, n_obs), np.nan)
     x_min, total = vec.x0.copy(), np.zeros(len(STAT_NAMES), dtype=np.int64)
     edges = np.linspace(0, K - 1, PROGRESS_CHUNKS + 1).astype(int)
+    if fixed:
+        edges = _on_grid(edges, t_out, fixed)
     x = vec.x0.copy()
     status, t_reached, bad = 0, float(t_out[0]), -1
     for a, b in zip(edges[:-1], edges[1:]):
@@ -130,6 +133,16 @@ def _solve_compiled(circuit, vec, settings, t_out, stops, atol, progress) -> Out
             break
     return Outcome(int(status), t_out, X, Y, x_min, x, float(t_reached), int(bad),
                    dict(zip(STAT_NAMES, (int(s) for s in total))))
+
+
+def _on_grid(edges: np.ndarray, t_out: np.ndarray, step: float) -> np.ndarray:
+    """The slices' edges moved to the nearest output samples on the fixed step's grid t_out[0] + k*step
+    (a slice restarts the grid at its first sample, so an edge off it would add a short step and shift the
+    grid after it); none inside if no sample is on it."""
+    steps = (t_out - t_out[0]) / step
+    on_grid = np.flatnonzero(np.abs(steps - np.round(steps)) <= 1e-9 * np.maximum(1.0, steps))
+    inner = [int(on_grid[np.argmin(np.abs(on_grid - e))]) for e in edges[1:-1]] if on_grid.size else []
+    return np.unique(np.array([edges[0], *inner, edges[-1]], dtype=int))
 
 
 class _Stop(Exception):

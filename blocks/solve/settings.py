@@ -19,6 +19,7 @@ class SolverSettings:
     fixed_step: float = 0.0
     max_step: float = 0.0
     max_steps: int = 2_000_000
+    fixed_step_check: bool = True  # solver fixed: a second run at twice the step (blocks.solve.step_check)
 
     def with_(self, **changes) -> "SolverSettings":
         return replace(self, **changes)
@@ -61,7 +62,8 @@ def settings_of(sim, located) -> SolverSettings:
     t_start, t_end, dt_out = seconds("t_start", sim.t_start), seconds("t_end", sim.t_end), seconds("dt_out", sim.dt_out)
     fixed = seconds("fixed_step", sim.fixed_step) if sim.fixed_step is not None else 0.0
     max_step = seconds("max_step", sim.max_step) if sim.max_step is not None else 0.0
-    settings = SolverSettings(t_start, t_end, dt_out, sim.solver, sim.rtol, sim.atol, fixed, max_step, sim.max_steps)
+    settings = SolverSettings(t_start, t_end, dt_out, sim.solver, sim.rtol, sim.atol, fixed, max_step, sim.max_steps,
+                              sim.fixed_step_check)
     problem = settings.problem()
     if problem is None and sim.max_step is not None and not max_step > 0:  # 0 would mean none: write none
         problem = "max_step", "must be positive (or left out)"

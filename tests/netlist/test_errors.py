@@ -267,7 +267,7 @@ def test_a_job_or_experiment_given_as_a_netlist_says_so(tmp_path, capsys, text, 
 
 @pytest.mark.parametrize("key, message", [
     ("rtoll", "unknown key 'rtoll' (did you mean rtol, atol?)"),
-    ("tolerance", "unknown key 'tolerance' (allowed: atol, dt_out, fixed_step, max_step, max_steps, rtol, solver, "
+    ("tolerance", "unknown key 'tolerance' (allowed: atol, dt_out, fixed_step, fixed_step_check, max_step, max_steps, rtol, solver, "
                   "t_end, t_start)"),
 ])
 def test_unknown_key_offers_near_keys_as_a_question_and_lists_all_otherwise(tmp_path, key, message):
