@@ -230,7 +230,31 @@ def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] |
             problem = entry.bounds.check(overrides[name])
             if problem:
                 raise ArgumentError(f"vphs: --set '{pair}': {problem}")
+    _check_values_with(overrides, written, circuit)
     return overrides
+
+
+def _check_values_with(overrides: dict[str, float], written: dict[str, str], circuit) -> None:
+    """The blocks' checks of their values together (p_open above p_set, a start inside the stroke) with the
+    --set values. One that fails only with them is the command's error, said with the --set values that
+    make it fail, each alone, or all of them if none alone does: the netlist's place alone would point at a
+    line that is right as written."""
+    from blocks.errors import NetlistError
+
+    def failure(values: dict[str, float]) -> NetlistError | None:
+        try:
+            circuit.vectors(values)
+        except NetlistError as exc:
+            return exc
+        return None
+
+    with_all = failure(overrides) if overrides else None
+    if with_all is None or failure({}) is not None:
+        return  # fine, or the netlist's own error: said where it is, when the command evaluates it
+    culprits = [name for name in overrides if failure({name: overrides[name]})] or list(overrides)
+    sets = ", ".join(f"--set '{name}={written[name]}'" for name in culprits)
+    where = str(NetlistError(with_all.file, "", with_all.line, with_all.column)).removesuffix(": ")
+    raise ArgumentError(f"vphs: {sets}: {with_all.message} (checked at {where}, right as written there)")
 
 
 def _unknown_parameter_hint(name: str, entries, setting_options: dict[str, str], derived=()) -> str:

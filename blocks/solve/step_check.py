@@ -43,8 +43,8 @@ def doubled_step_warning(circuit, vec, settings, outcome) -> str:
     if not share > FIXED_STEP_MOVE:
         return ""
     name = circuit.outputs[k].name
-    return (f"{head}: at twice the step '{name}' moves by {100 * share:.3g} % of its range (at t = "
-            f"{outcome.t[i]:.4g} s); {advice}")
+    moved = f"{100 * share:.3g} % of its range" if share < 10 else f"{share:.3g} times its range"
+    return f"{head}: at twice the step '{name}' moves by {moved} (at t = {outcome.t[i]:.4g} s); {advice}"
 
 
 def _largest_move(fine: np.ndarray, coarse: np.ndarray) -> tuple[float, int, int]:
