@@ -25,7 +25,7 @@ from blocks import interrupt
 from blocks.block import Block, PortKind
 from blocks.compiler.codegen import Generator, OutputExpr
 from blocks.compiler.structure import Structure, analyse, cavitation, jacobian_pattern
-from blocks.errors import NetlistError, SimulationError
+from blocks.errors import SimulationError
 from blocks.library.hydraulic.cavitation import cavity_volume
 from blocks.netlist.flatten import FlatCircuit, flatten
 from blocks.netlist.signal_dimensions import check_signal_dimensions
