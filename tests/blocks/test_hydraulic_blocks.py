@@ -213,6 +213,17 @@ def test_a_full_open_pressure_at_or_below_the_setting_is_refused():
         assert said == f"p_open = {p_open / BAR:g} bar must be above p_set = 200 bar (the valve opens over p_set ... p_open)"
     assert "must be above p_crack = 0.5 bar" in CheckValve.check_values({"p_crack": 0.5 * BAR, "p_open": 0.2 * BAR})
 
+
+def test_a_cylinder_whose_annulus_is_larger_than_its_piston_is_refused():
+    # A_B = pi*(30 mm)^2 on a 50 mm bore ran without a word; a double-rod cylinder (A_B = A_A) is fine
+    bore = math.pi * 0.025**2
+    values = {"A_A": bore, "stroke": 1.0}
+    assert Cylinder.check_values({**values, "A_B": bore}) is None
+    assert Cylinder.check_values({**values, "A_B": bore - math.pi * 0.014**2}) is None
+    said = Cylinder.check_values({**values, "A_B": math.pi * 0.03**2})
+    assert said.startswith("the rod-side area A_B = 2827.4 mm^2 is larger than the piston-side A_A = 1963.5 mm^2")
+
+
 # ---------------------------------------------------------------- motor
 MOTOR = dict(D=2 * 30e-6 / (2 * math.pi), J_m=0.0068, eta_hm=1.0, w_w=0.1, p_vap=P_VAP)
 

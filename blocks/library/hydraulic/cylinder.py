@@ -45,6 +45,11 @@ class Cylinder(Block):
     @classmethod
     def check_values(cls, values: dict) -> str | None:
         start, stroke = values.get("initial.x", 0.0), values["stroke"]
+        if values["A_B"] > values["A_A"]:  # the annulus is the piston's area less the rod's
+            return (f"the rod-side area A_B = {values['A_B'] * 1e6:.5g} mm^2 is larger than the piston-side "
+                    f"A_A = {values['A_A'] * 1e6:.5g} mm^2: B is the annulus, the piston's area less the rod's "
+                    f"(A_B = A_A for a double-rod cylinder); if the chamber you call A is the rod side, swap the "
+                    f"areas, dead volumes and nets")
         if not 0.0 <= start <= stroke:
             return (f"initial x = {start * 1e3:g} mm is outside the stroke [0, {stroke * 1e3:g} mm]: the piston would "
                     f"start inside an end stop")
