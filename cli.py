@@ -529,6 +529,8 @@ def cmd_optimise(args, sweep: bool = False) -> int:
         if problem:
             raise ArgumentError(f"vphs: --scheduler '{args.scheduler}': {problem}")
     job = load_job(args.job)
+    for warning in job.warnings:  # before the run: what its count of failures would say only at the end
+        print(f"vphs: warning: {warning}", file=sys.stderr)
     main_thread = threading.current_thread() is threading.main_thread()
     previous = signal.signal(signal.SIGTERM, terminate_as_interrupt) if main_thread else None
     try:

@@ -293,6 +293,7 @@ class Job:
     si_units: dict[str, str] = field(default_factory=dict)  # parameter -> the SI unit its values are in
     sweep_combine: str = "grid"
     start: str = "random"  # nelder_mead: start at a seeded random point or at the netlist's values
+    warnings: list[str] = field(default_factory=list)  # said before the run (:meth:`_Resolver.edges_failing`)
 
     @property
     def lower(self) -> np.ndarray:
@@ -487,7 +488,27 @@ class _Resolver:
         )
         job.fingerprint = self.fingerprint(netlist)
         job.sources = source_digests(self.circuit.flat.files, Path(netlist).resolve().parent)
+        job.warnings = self.edges_failing(free, {**fixed, **cases[0][1]}, job.units)
         return job
+
+    def edges_failing(self, free: list[FreeParam], fixed: dict[str, float], units: dict[str, str]) -> list[str]:
+        """A line for each free parameter at a bound of its range where the blocks' checks of their values
+        together refuse the design (a relief's p_set free up to 200 bar, its p_open fixed at 160 bar), the
+        others at the netlist's values: such designs fail and cost the penalty, which the job should know
+        before it runs rather than read in its count of failures."""
+        from blocks.optimise.display import shown
+
+        lines = []
+        for p in free:
+            for edge, value in (("min", p.lower), ("max", p.upper)):
+                try:
+                    self.circuit.vectors({**fixed, p.name: value})
+                except NetlistError as exc:
+                    origin = f" ({exc.file}:{exc.line}:{exc.column})" if exc.line is not None else f" ({exc.file})"
+                    lines.append(f"{self.located.file}: parameters.{p.name}.{edge} = {shown(value, units[p.name])}"
+                                 f" (the rest at the netlist's values) is refused: {exc.message}{origin}; designs "
+                                 f"there fail and cost the penalty")
+        return lines
 
     def name(self) -> str:
         """The job's name (default: the file's stem). It names the default output folder out/<name>, so it
