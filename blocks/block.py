@@ -110,7 +110,10 @@ def translational(name: str, description: str, stores: bool = False) -> Port:
 
 @dataclass(frozen=True)
 class Param:
-    """One parameter: name, SI unit, default, bounds [lower, upper] (None: open), description.
+    """One parameter: name, SI unit, default, bounds [lower, upper] (None: no bound on that side), description.
+
+    Both bounds are accepted values, except the lower one where ``positive`` is set: then the value must lie
+    above it, (lower, upper] (a length, a time constant: 0 would divide by zero). The docs write it so.
 
     ``fluid`` names a netlist-level fluid property (rho, nu, beta, vapour_pressure) whose value the parameter
     takes unless the component overrides it. ``array`` parameters are vectors (tables, polynomial coefficients) whose
@@ -126,7 +129,7 @@ class Param:
     fluid: str | None = None
     array: bool = False
     integer: bool = False
-    positive: bool = False  # the lower bound (0) itself is excluded
+    positive: bool = False  # the lower bound itself is excluded (for a lower bound 0: the value must be positive)
 
     def check(self, value) -> str | None:
         """None if ``value`` is inside the bounds, else what is wrong."""
@@ -136,7 +139,8 @@ class Param:
             if not math.isfinite(v):
                 return f"{self.name} = {v} is not finite"
             if self.lower is not None and self.positive and v <= self.lower:
-                return f"{self.name} = {v:g}{unit} must be positive"
+                above = "be positive" if self.lower == 0 else f"lie above {self.lower:g}{unit}"
+                return f"{self.name} = {v:g}{unit} must {above}"
             if self.lower is not None and v < self.lower:
                 return f"{self.name} = {v:g}{unit} is below its lower bound {self.lower:g}{unit}"
             if self.upper is not None and v > self.upper:

@@ -26,7 +26,7 @@ from pathlib import Path
 from pydantic import BaseModel
 from pydantic_core import PydanticUndefined
 
-from blocks.block import ACROSS, CAPACITY, THROUGH, Block
+from blocks.block import ACROSS, CAPACITY, THROUGH, Block, Param
 from blocks.result import atomic_write_text
 
 # ---------------------------------------------------------------- what each key of the schema means
@@ -171,7 +171,7 @@ def block_reference(cls: type[Block], level: int = 2) -> str:
         lines += ["", "| parameter | unit | default | bounds | description |", "|---|---|---|---|---|"]
         for p in cls.params:
             default = f"fluid.{p.fluid}" if p.fluid else ("required" if p.default is None else _fmt(p.default))
-            bounds = f"[{_fmt(p.lower)}, {_fmt(p.upper)}]"
+            bounds = bounds_text(p)
             kind = " (array)" if p.array else (" (integer)" if p.integer else "")
             lines.append(f"| `{p.name}`{kind} | {p.unit} | {default} | {bounds} | {_cell(p.description)} |")
     if cls.states:
@@ -196,6 +196,14 @@ def block_reference(cls: type[Block], level: int = 2) -> str:
             shown = ", ".join(f"{k} = {v}" for k, v in values.items())
             lines.append(f"| `{name}` | {_cell(shown)} |")
     return "\n".join(lines) + "\n"
+
+
+def bounds_text(p: Param) -> str:
+    """A parameter's bounds as an interval, as :meth:`Param.check` applies them: ``[0, 10]`` accepts 0 and 10,
+    ``(0, 10]`` refuses 0 itself (``positive``), ``(-inf, inf)`` has no bound."""
+    lower = "(-inf" if p.lower is None else f"({_fmt(p.lower)}" if p.positive else f"[{_fmt(p.lower)}"
+    upper = f"{_fmt(p.upper)}]" if p.upper is not None else "inf)"
+    return f"{lower}, {upper}"
 
 
 def _cell(text: str) -> str:
@@ -383,7 +391,8 @@ def file_format() -> str:
         schema_table(spec.Component),
         "A parameter's bounds (in the block tables below) are checked when values are evaluated, and so are "
         "the relations between parameters a block checks (a table's breakpoints increasing, a lower limit "
-        "below the upper).",
+        "below the upper). `[0, 10]` accepts 0 and 10 themselves; `(0, 10]` refuses 0 (the value must be "
+        "positive); `-inf` or `inf`: no bound on that side.",
         "",
         "### Nets",
         "",

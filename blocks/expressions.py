@@ -1,11 +1,12 @@
 """A safe evaluator for the arithmetic in netlists: ``"0.085 + m_load*r_p**2/n_g**2"``.
 
-Only numbers, parameter names, + - * / ** %, unary signs, parentheses, comparisons inside ``min``/``max``
-style calls and a fixed table of math functions are accepted. A name may be dotted, ``supply.p``: a
+Only numbers, parameter names, + - * / ** %, unary signs, parentheses and calls of a fixed table of math
+functions (with their number of arguments) are accepted. A name may be dotted, ``supply.p``: a
 parameter of a component (or a net's written ``initial``) of the same netlist, read as one name. The
 text is parsed with :mod:`ast` and walked by hand; ``eval`` is never called, subscripts, lambdas and
-everything else are refused, so a netlist can run no code. All numbers are floats, so ``9**9**9``
-overflows at once instead of hanging.
+everything else are refused, so a netlist can run no code. A refused construct is named as written (a comma,
+"[ ]", "^"), never by the parser's node type, which the writer of a netlist has no reason to know. All
+numbers are floats, so ``9**9**9`` overflows at once instead of hanging.
 """
 
 from __future__ import annotations
@@ -23,6 +24,8 @@ FUNCTIONS = {
     "radians": math.radians, "degrees": math.degrees,
 }
 CONSTANTS = {"pi": math.pi, "e": math.e}
+ARGUMENTS = {"atan2": (2, 2), "hypot": (1, None), "min": (2, None), "max": (2, None), "log": (1, 2)}
+"""How many arguments a function takes, (fewest, most; None: any number), where it is not exactly one."""
 
 _BINARY = {
     ast.Add: operator.add, ast.Sub: operator.sub, ast.Mult: operator.mul, ast.Div: operator.truediv,
@@ -30,6 +33,22 @@ _BINARY = {
 }
 _UNARY = {ast.UAdd: operator.pos, ast.USub: operator.neg}
 _MAX_LENGTH = 2000
+
+# a refused construct in the words of its writer (by node type, or operator type for an operation): what it
+# is, and what to write instead where that is plain
+_REFUSED = {
+    ast.Tuple: ("a comma outside a function's parentheses", "a value is one number; a comma only separates a "
+                                                              "function's arguments"),
+    ast.Subscript: ("indexing with '[ ]'", ""), ast.List: ("a list in '[ ]'", ""), ast.Dict: ("'{ }'", ""),
+    ast.Set: ("'{ }'", ""), ast.Compare: ("a comparison", ""), ast.And: ("'and'", ""),
+    ast.Or: ("'or'", ""), ast.Not: ("'not'", ""), ast.Invert: ("'~'", ""), ast.IfExp: ("'if ... else'", ""),
+    ast.Lambda: ("'lambda'", ""), ast.NamedExpr: ("':='", ""), ast.Starred: ("'*' before an argument", ""),
+    ast.ListComp: ("a 'for' loop", ""), ast.SetComp: ("a 'for' loop", ""), ast.DictComp: ("a 'for' loop", ""),
+    ast.GeneratorExp: ("a 'for' loop", ""), ast.JoinedStr: ("text", ""),
+    ast.BitXor: ("'^'", "write ** for a power, as in x**2"), ast.FloorDiv: ("'//'", "write floor(a/b)"),
+    ast.MatMult: ("'@'", ""), ast.BitOr: ("'|'", ""), ast.BitAnd: ("'&'", ""), ast.LShift: ("'<<'", ""),
+    ast.RShift: ("'>>'", ""),
+}
 
 
 class ExpressionError(ValueError):
@@ -84,7 +103,8 @@ def _check(node: ast.AST, text: str, names: set[str], depth: int = 0) -> None:
         raise ExpressionError(f"expression '{text[:40]}...' is nested too deeply")
     if isinstance(node, ast.Constant):
         if isinstance(node.value, bool) or not isinstance(node.value, (int, float)):
-            raise ExpressionError(f"only numbers are allowed in '{text}', not {node.value!r}")
+            written = ast.get_source_segment(text.strip(), node) or repr(node.value)
+            raise ExpressionError(f"only real numbers are allowed in '{text}', not {written}")
     elif isinstance(node, ast.Attribute):
         names.add(dotted_name(node, text))
     elif isinstance(node, ast.Name):
@@ -98,15 +118,41 @@ def _check(node: ast.AST, text: str, names: set[str], depth: int = 0) -> None:
     elif isinstance(node, ast.UnaryOp) and type(node.op) in _UNARY:
         _check(node.operand, text, names, depth + 1)
     elif isinstance(node, ast.Call):
-        if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
-            what = node.func.id if isinstance(node.func, ast.Name) else "this call"
-            raise ExpressionError(f"unknown function '{what}' in '{text}' (allowed: {', '.join(sorted(FUNCTIONS))})")
-        if node.keywords:
-            raise ExpressionError(f"keyword arguments are not allowed in '{text}'")
         for arg in node.args:
             _check(arg, text, names, depth + 1)
+        _check_call(node, text)
     else:
-        raise ExpressionError(f"'{type(node).__name__}' is not allowed in expression '{text}'")
+        raise _refused(node, text)
+
+
+def _check_call(node: ast.Call, text: str) -> None:
+    """A call names a function of :data:`FUNCTIONS` and passes it plain arguments (how many: :func:`_arguments`,
+    when it is evaluated, so that ``max(ref.times)`` is first said to read a list)."""
+    if not isinstance(node.func, ast.Name) or node.func.id not in FUNCTIONS:
+        what = node.func.id if isinstance(node.func, ast.Name) else ast.get_source_segment(text.strip(), node.func)
+        raise ExpressionError(f"unknown function '{what}' in '{text}' (allowed: {', '.join(sorted(FUNCTIONS))})")
+    if node.keywords:
+        raise ExpressionError(f"keyword arguments are not allowed in '{text}'")
+
+
+def _arguments(node: ast.Call) -> None:
+    """A call passes its function as many arguments as it takes (Python's own words would be "'float' object
+    is not iterable" for max(3))."""
+    name, count = node.func.id, len(node.args)
+    fewest, most = ARGUMENTS.get(name, (1, 1))
+    if count < fewest or (most is not None and count > most):
+        takes = f"{fewest}" if fewest == most else f"{fewest} or more" if most is None else f"{fewest} or {most}"
+        raise ExpressionError(f"{name}() takes {takes} argument{'s' if takes != '1' else ''}, not {count}")
+
+
+def _refused(node: ast.AST, text: str) -> ExpressionError:
+    """The error for a construct outside the arithmetic subset, naming it as written."""
+    kind = type(node.op) if isinstance(node, (ast.BinOp, ast.UnaryOp, ast.BoolOp)) else type(node)
+    if kind not in _REFUSED:  # a construct with no words of its own: what is allowed instead
+        return ExpressionError(f"'{text}' is not arithmetic: only numbers, parameter names, + - * / ** %, "
+                               f"parentheses and function calls are allowed")
+    what, instead = _REFUSED[kind]
+    return ExpressionError(f"{what} is not allowed in expression '{text}'" + (f" ({instead})" if instead else ""))
 
 
 def dotted_name(node: ast.Attribute, text: str) -> str:
@@ -148,5 +194,6 @@ def _walk(node: ast.AST, values: dict[str, float]) -> float:
     if isinstance(node, ast.UnaryOp):
         return _UNARY[type(node.op)](_walk(node.operand, values))
     if isinstance(node, ast.Call):
+        _arguments(node)
         return float(FUNCTIONS[node.func.id](*(_walk(a, values) for a in node.args)))
-    raise ExpressionError(f"cannot evaluate {type(node).__name__}")
+    raise ExpressionError("cannot evaluate it")  # not reached: _check refused everything else

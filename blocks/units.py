@@ -103,6 +103,16 @@ class UnitError(ValueError):
     """A unit or quantity that cannot be parsed, or has the wrong dimension."""
 
 
+class UnknownUnitError(UnitError):
+    """A name that is not a unit: ``name``, and the units ``near`` it for a 'did you mean' hint. Kept apart so
+    that a value that is "<number> <unit>" but for a misspelt unit after an operator ("10 l/mn", which also
+    reads as the expression 10 l divided by a parameter mn) can be reported as the misspelt unit it is."""
+
+    def __init__(self, name: str, near: list[str]):
+        super().__init__(f"unknown unit '{name}'{did_you_mean(near)}")
+        self.name, self.near = name, near
+
+
 @lru_cache(maxsize=512)
 def parse_unit(text: str) -> Unit:
     """Parse a unit expression such as ``"m^3/(s*Pa)"`` into a :class:`Unit`."""
@@ -185,9 +195,7 @@ def _parse_atom(tokens, pos, text):
         return _ONE, pos + 1
     if kind == "name":
         if tok not in UNITS:
-            near = nearest(tok, UNITS)
-            hint = f" (did you mean {', '.join(near)}?)" if near else ""
-            raise UnitError(f"unknown unit '{tok}'{hint}")
+            raise UnknownUnitError(tok, nearest(tok, UNITS))
         return UNITS[tok], pos + 1
     raise UnitError(f"unexpected '{tok}' in unit '{text}'")
 
@@ -228,6 +236,11 @@ def nearest(name: str, choices, n: int = 3) -> list[str]:
     return list(dict.fromkeys(same + close))[:n]
 
 
+def did_you_mean(near: list[str]) -> str:
+    """" (did you mean a, b?)" for the names ``near`` a misspelt one, "" if there are none."""
+    return f" (did you mean {', '.join(near)}?)" if near else ""
+
+
 def display_factor(unit: str) -> float:
     """The SI factor of a display unit ("bar" -> 1e5); 1 for a dimensionless or SI-marked one ("", "1", "SI")."""
     return 1.0 if unit in ("", "1", "SI") else parse_unit(unit).factor
@@ -255,11 +268,7 @@ def quantity(value, declared_unit: str) -> float:
         return float(value)
     if not isinstance(value, str):
         raise UnitError(f"expected a number or a '<number> <unit>' string, got {value!r}")
-    m = _QUANTITY.match(value)
-    if not m:
-        raise UnitError(f"'{value}' is not '<number> <unit>'")
-    number = float(m.group("value"))
-    unit_text = m.group("unit")
+    number, unit_text = split_quantity(value)
     if not unit_text:
         return number
     return convert(number, unit_text, declared_unit)
@@ -296,10 +305,27 @@ def si_value(raw, dims: "Unit | None" = None) -> float:
 
 def split_quantity(text: str) -> tuple[float, str]:
     """Split "207 bar" into (207.0, "bar"); a bare number gives unit ""."""
+    comma = decimal_comma(text)
+    if comma:
+        raise UnitError(comma)
     m = _QUANTITY.match(text)
     if not m:
         raise UnitError(f"'{text}' is not '<number> <unit>'")
     return float(m.group("value")), m.group("unit")
+
+
+def decimal_comma(text: str) -> str | None:
+    """What is wrong with a number written with a decimal comma ("150,5 bar"), else None.
+
+    Only a comma between digits outside any parentheses counts: there it can be nothing else (a value is
+    one number), while in ``max(1,2)`` it separates arguments. Said in words, as the expression parser
+    would only see a tuple of two numbers."""
+    for m in re.finditer(r"(?<![\w.])(\d+),(\d+)", text):
+        if text.count("(", 0, m.start(2)) == text.count(")", 0, m.start(2)):
+            whole, decimals = m.groups()
+            thousands = f", or {whole}{decimals} without a thousands separator" if len(decimals) == 3 else ""
+            return f"',' is not a decimal point in '{text}' (write {whole}.{decimals}{thousands})"
+    return None
 
 
 _INLINE_QUANTITY = re.compile(

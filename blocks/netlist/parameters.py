@@ -25,8 +25,8 @@ import numpy as np
 from blocks.errors import NetlistError, VphsError
 from blocks.expressions import Expression, ExpressionError, dotted_name, parse_expression
 from blocks.netlist.yaml_source import Located
-from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, nearest, parse_unit, quantity, quantity_name, si_name,
-                          split_quantity, substitute_quantities)
+from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, UnknownUnitError, decimal_comma, did_you_mean, nearest,
+                          parse_unit, quantity, quantity_name, si_name, split_quantity, substitute_quantities)
 
 FREE = None  # dimension of a bare number: adapts to its place
 
@@ -53,6 +53,9 @@ class Entry:
     dims: Unit | None = FREE  # the written unit of a constant, or the declared unit (FREE for a bare number)
     raw: object = None  # the text as written (re-read when a net's kind fixes the unit of its initial value)
     lines: list[int] | None = None  # an array read from a data file ({csv:, column:}): each element's file line
+    unknown_units: dict[str, UnknownUnitError] = field(default_factory=dict)
+    """Names that failed as units where the value reads as "<number> <unit>" ("mn" in "10 l/mn"), which the
+    expression then took as parameter names: if no such parameter exists, the misspelt unit is reported."""
 
     def element_place(self, i: int) -> str | None:
         """Where element ``i`` of an array read from a data file was written (``ref.csv:7``), else None."""
@@ -121,16 +124,28 @@ class ParameterTable:
         for local in entry.dependencies():
             target = entry.scope.get(local)
             if target is None or target not in self.entries:
-                near = [n for n in entry.scope if entry.scope[n] in self.entries]
-                hint = nearest(local, near)
-                raise entry.error(f"unknown parameter '{local}' in {entry.name}"
-                                  + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+                raise entry.error(self._unknown_name(entry, local))
             read = self.entries[target]
             if read.elements is not None or isinstance(read.constant, tuple):
                 raise entry.error(f"{entry.name}: '{local}' is a list of values; an expression reads "
                                   f"one value")
             found.append(target)
         return found
+
+    def _unknown_name(self, entry: Entry, local: str) -> str:
+        """What is wrong with ``local``, a name ``entry`` reads that is no parameter: a misspelt parameter, or
+        where the value reads as "<number> <unit>" but for this name ("10 l/mn"), a misspelt unit (or, if a
+        parameter's name is near it too, either; the hints say which are near)."""
+        near = nearest(local, [n for n in entry.scope if entry.scope[n] in self.entries])
+        unit = entry.unknown_units.get(local)
+        if unit is None:
+            return f"unknown parameter '{local}' in {entry.name}{did_you_mean(near)}"
+        if unit.near and not near:
+            return f"{entry.name}: {unit}"
+        hints = ([f"the unit {', '.join(unit.near)}"] if unit.near else []) + \
+                ([f"the parameter {', '.join(near)}"] if near else [])
+        either = did_you_mean([" or ".join(hints)] if hints else [])
+        return f"{entry.name}: unknown unit or parameter '{local}'{either}"
 
     def _check_dimensions(self, order: list[str]) -> None:
         inferred: dict[str, Unit | None] = {}
@@ -281,8 +296,7 @@ class ParameterTable:
         overrides = overrides or {}
         for name in overrides:
             if name not in self.entries:
-                hint = nearest(name, self.entries)
-                raise ParameterError(f"unknown parameter '{name}'" + (f" (did you mean {', '.join(hint)}?)" if hint else ""))
+                raise ParameterError(f"unknown parameter '{name}'{did_you_mean(nearest(name, self.entries))}")
         values: dict[str, float | tuple] = {}
         for name in self.order():
             entry = self.entries[name]
@@ -432,6 +446,9 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
         return Entry(name, unit, float(raw), None, scope, source, path, bounds, dims=dims, raw=raw)
     if not isinstance(raw, str):
         raise source.error(path, f"{name}: expected a single value, got {type(raw).__name__}")
+    comma = decimal_comma(raw)  # "150,5 bar": as an expression, a pair of values
+    if comma:
+        raise source.error(path, f"{name}: {comma}")
     unit_problem = None
     if _QUANTITY.match(raw) and not _names_a_parameter(raw, scope):
         try:
@@ -456,18 +473,20 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
         raise source.error(path, f"{name}: {problem}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
         raise source.error(path, f"{name}: {unit_problem}")
+    unknown = {unit_problem.name: unit_problem} if isinstance(unit_problem, UnknownUnitError) else {}
     return Entry(name, unit, None, expression, scope, source, path, bounds, literals=literals,
-                 dims=parse_unit(unit) if unit and unit != GENERIC else FREE, raw=raw)
+                 dims=parse_unit(unit) if unit and unit != GENERIC else FREE, raw=raw, unknown_units=unknown)
 
 
 def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], source: Located, path: tuple,
                      bounds=None) -> Entry:
     """An array parameter: each element a number, '<number> <unit>' or an expression."""
-    elements, literals, written, bare = [], {}, [], []
+    elements, literals, written, bare, unknown = [], {}, [], [], {}
     for i, item in enumerate(raw):
         single = make_entry(f"{name}[{i}]", item, unit, scope, source, path + (i,))
         elements.append(single.expression if single.expression is not None else single.constant)
         literals.update(single.literals)
+        unknown.update(single.unknown_units)
         if single.expression is None:
             if single.dims is not FREE:
                 written.append((i, item, single.dims))
@@ -490,4 +509,5 @@ def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], sou
     dims = written[0][2] if written else (parse_unit(unit) if unit and unit != GENERIC else FREE)
     if all(not isinstance(e, Expression) for e in elements):
         return Entry(name, unit, tuple(elements), None, scope, source, path, bounds, dims=dims, raw=raw)
-    return Entry(name, unit, None, None, scope, source, path, bounds, elements, literals, dims=dims, raw=raw)
+    return Entry(name, unit, None, None, scope, source, path, bounds, elements, literals, dims=dims, raw=raw,
+                 unknown_units=unknown)
