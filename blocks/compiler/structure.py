@@ -131,9 +131,11 @@ def _find_prescribed(st: Structure) -> None:
                 other = st.prescribed[net][0]
                 raise comp.source.error(comp.path, f"net '{net}' is prescribed by two sources: {other} and {name}")
             st.prescribed[net] = (name, port)
-            initial = st.circuit.parameters.entries.get(f"{net}.initial")
-            if initial is not None:
-                raise initial.error(f"net '{net}' is held by the source {name}: an initial value would be ignored")
+            # not its bulk modulus: a subsystem's fluid gives every net of it one, a held one too
+            for key, what in (("initial", "an initial value"), ("volume", "a volume")):
+                given = st.circuit.parameters.entries.get(f"{net}.{key}")
+                if given is not None:
+                    raise given.error(f"net '{net}' is held by the source {name}: {what} would be ignored")
 
 
 def _signal_drivers(st: Structure) -> None:

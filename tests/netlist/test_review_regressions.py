@@ -282,6 +282,11 @@ def test_initial_speed_on_a_prescribed_rigid_body_is_refused():
     assert_located("prescribed_initial", "initial:", ["'b'", "drv"])
 
 
+def test_a_volume_on_a_net_a_tank_holds_is_refused():
+    """Old (user review, session 22): accepted without a word, and ignored."""
+    assert_located("tank_volume", "volume: \"1 l\"", ["net 'T'", "tank", "a volume would be ignored"])
+
+
 # ---- 10. signal units -------------------------------------------------------------------------------------
 def test_signal_net_joining_different_units_is_refused():
     """Old: a pressure in Pa went straight into a torque input in N*m (100 bar = 1e7 N*m)."""
