@@ -6,6 +6,11 @@ while a calibration's output folder is being restored.
   expression, ``f_s`` in ``p_set*f_s``) was converted with whatever unit it carried and taken in SI: 'f [mm]'
   1000 set f_s = 1 without a word, where ``groups: {1: {f_s: "1000 mm"}}`` is refused. Its unit is now checked
   as that value's is.
+- Beside a grouping column, a column without a unit of decimal-comma numbers ("1,5") was kept as labels
+  (text, never compared): a ratio meant as 1.5 vanished from the data. It is now the number error it is
+  without a grouping column.
+- A ``repeats:`` column with a text cell was read as labels beside the grouping column, and the run ended in
+  "no column 'point'" while the column was there; the text cell is now the error.
 """
 
 from __future__ import annotations
@@ -18,6 +23,7 @@ import yaml
 
 import cli
 from blocks.calibrate.experiment import load_experiment
+from blocks.datafile import DataFileError, read_table
 
 ROOT = Path(__file__).resolve().parents[2]
 RIG = ROOT / "netlists" / "experiments" / "circuits" / "relief_rig.yaml"
@@ -78,3 +84,42 @@ def test_a_group_table_column_without_a_unit_where_its_readers_need_one_is_refus
 def test_a_group_table_column_its_readers_allow_is_converted_with_its_unit(tmp_path, table, values):
     exp = load_experiment(experiment(tmp_path, table))
     assert [exp.groups[g]["f"] for g in ("1", "2")] == pytest.approx(list(values))
+
+
+# ---------------------------------------------------------------- a decimal comma beside a grouping column
+def test_a_decimal_comma_beside_a_grouping_column_is_not_a_label(tmp_path):
+    path = tmp_path / "points.csv"
+    path.write_text('setting,ratio,p1 [bar]\n1,2.5,40\n1,"1,5",50\n')
+    with pytest.raises(DataFileError) as caught:
+        read_table(path, group="setting")
+    assert str(caught.value) == (f"{path}:3:2: column 'ratio': '1,5' is not a number (a decimal comma? numbers "
+                                 f"are read with a '.')")
+
+
+def test_a_column_of_labels_beside_a_grouping_column_stays_text(tmp_path):
+    """A column with a cell that is text and not a number with a comma is still a column of labels."""
+    path = tmp_path / "points.csv"
+    path.write_text('setting,note,p1 [bar]\n1,"1,5",40\n1,+1 turn,50\n')
+    assert read_table(path, group="setting").text == {"note": ["1,5", "+1 turn"]}
+
+
+# ---------------------------------------------------------------- a repeats: column of text
+REPEATS = {"netlist": str(RIG), "data": "data.csv", "group": "setting", "repeats": "point",
+           "inputs": {"Q": {"parameter": "Q_in", "noise": "0.5 l/min"}},
+           "outputs": {"p1": {"signal": "p1", "noise": "repeats"}},
+           "groups": {"1": {"p_set": "30 bar"}},
+           "free": {"k_s": {"initial": "50 bar", "lower": "5 bar", "upper": "500 bar"}}}
+
+
+@pytest.mark.parametrize("cell, line, pattern", [
+    ("b", 4, r"'b' is not a number: the experiment's repeats: column numbers the repeated points \(rows of a "
+             r"group with the same number are one operating point set up again\)"),
+    ('"2,0"', 4, r"'2,0' is not a number \(a decimal comma\? numbers are read with a '\.'\)"),
+])
+def test_a_repeats_column_with_a_text_cell_names_that_cell(tmp_path, capsys, cell, line, pattern):
+    (tmp_path / "data.csv").write_text(f"setting,point,Q [l/min],p1 [bar]\n1,1,20,40\n1,1,20,40.2\n"
+                                       f"1,{cell},40,50\n")
+    path = tmp_path / "exp.yaml"
+    path.write_text(yaml.safe_dump(REPEATS, sort_keys=False))
+    refused(tmp_path, capsys, path, rf"vphs: {re.escape(str(tmp_path / 'data.csv'))}:{line}:2: column 'point': "
+            + pattern)
