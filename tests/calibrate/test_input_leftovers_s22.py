@@ -11,17 +11,25 @@ while a calibration's output folder is being restored.
   without a grouping column.
 - A ``repeats:`` column with a text cell was read as labels beside the grouping column, and the run ended in
   "no column 'point'" while the column was there; the text cell is now the error.
+- A second Ctrl-C while an interrupted calibration's output folder was being put back stopped that half-way:
+  part of the unfinished run's files left beside none of the previous run's (hidden in .previous); and a
+  second one while a set of result files was being given up left their staged (half-written) files in the
+  folder. Both clean-ups now run to their end before the interrupt is taken (blocks.interrupt.deferred).
 """
 
 from __future__ import annotations
 
+import os
 import re
+import signal
 from pathlib import Path
 
 import pytest
 import yaml
 
 import cli
+from blocks import interrupt, result
+from blocks.calibrate import output
 from blocks.calibrate.experiment import load_experiment
 from blocks.datafile import DataFileError, read_table
 
@@ -123,3 +131,80 @@ def test_a_repeats_column_with_a_text_cell_names_that_cell(tmp_path, capsys, cel
     path.write_text(yaml.safe_dump(REPEATS, sort_keys=False))
     refused(tmp_path, capsys, path, rf"vphs: {re.escape(str(tmp_path / 'data.csv'))}:{line}:2: column 'point': "
             + pattern)
+
+
+# ---------------------------------------------------------------- a second Ctrl-C during the clean-up
+def tree(folder: Path) -> dict[str, str]:
+    """Every file under ``folder`` (hidden ones too) by relative path, with its text."""
+    return {str(p.relative_to(folder)): p.read_text() for p in sorted(folder.rglob("*")) if p.is_file()}
+
+
+def ctrl_c_again(monkeypatch, owner, name: str, after=None) -> list:
+    """``owner.name`` replaced by a call that first receives a Ctrl-C (a real SIGINT, as a terminal sends
+    it), the first time it is called: the user pressing Ctrl-C again while the clean-up runs. ``after``: the
+    Ctrl-C comes instead just after the first call whose arguments ``after`` accepts."""
+    real, calls, sent = getattr(owner, name), [], []
+
+    def ctrl_c() -> None:
+        if not sent:
+            sent.append(True)
+            os.kill(os.getpid(), signal.SIGINT)
+
+    def again(*args, **kwargs):
+        if after is None:
+            ctrl_c()
+        calls.append(args)
+        done = real(*args, **kwargs)
+        if after is not None and after(*args):
+            ctrl_c()
+        return done
+
+    monkeypatch.setattr(owner, name, again)
+    return calls
+
+
+def test_a_second_ctrl_c_while_an_interrupted_run_is_undone_leaves_the_previous_output_whole(tmp_path,
+                                                                                             monkeypatch):
+    out = tmp_path / "out"
+    (out / "round1").mkdir(parents=True)
+    (out / "round1" / "augmented.yaml").write_text("previous round 1\n")
+    (out / "report.md").write_text("previous report\n")
+    (out / "notes.txt").write_text("the user's\n")
+    before = tree(out)
+    calls = ctrl_c_again(monkeypatch, output, "_remove")
+    with pytest.raises(KeyboardInterrupt):
+        with interrupt.handling(), output.replacing(out):
+            for k in (1, 2, 3):
+                (out / f"round{k}").mkdir()
+                (out / f"round{k}" / "augmented.yaml").write_text(f"unfinished round {k}\n")
+            raise KeyboardInterrupt  # the first Ctrl-C, mid-run
+    assert tree(out) == before and sorted(p.name for p in out.iterdir()) == ["notes.txt", "report.md", "round1"]
+    assert len(calls) == 3  # the run's three rounds deleted, the second Ctrl-C taken after
+
+
+def test_a_second_ctrl_c_while_staged_results_are_given_up_leaves_no_half_written_file(tmp_path, monkeypatch):
+    (tmp_path / "report.md").write_text("previous\n")
+
+    def interrupted(tmp):
+        tmp.write_text("half a plo")
+        raise KeyboardInterrupt  # the first Ctrl-C, while the second file is written
+
+    calls = ctrl_c_again(monkeypatch, Path, "unlink")
+    with pytest.raises(KeyboardInterrupt):
+        with interrupt.handling():
+            result.write_together((tmp_path / "report.md", lambda tmp: tmp.write_text("new\n")),
+                                  (tmp_path / "fit.png", interrupted))
+    assert tree(tmp_path) == {"report.md": "previous\n"}
+    assert len(calls) == 2  # both staged files removed, the second Ctrl-C taken after
+
+
+def test_a_ctrl_c_just_as_the_previous_output_is_set_aside_puts_it_back(tmp_path, monkeypatch):
+    """Interrupted after the last rename of moving aside (.previous.partial -> .previous), before the run."""
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "report.md").write_text("previous report\n")
+    ctrl_c_again(monkeypatch, Path, "rename", after=lambda path, target: Path(target).name == output.PREVIOUS)
+    with pytest.raises(KeyboardInterrupt):
+        with interrupt.handling(), output.replacing(out):
+            pytest.fail("the run started")
+    assert tree(out) == {"report.md": "previous report\n"}
