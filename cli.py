@@ -24,6 +24,7 @@ import signal
 import sys
 import tempfile
 import threading
+from contextlib import contextmanager
 from pathlib import Path
 
 EXIT_FAILED, EXIT_BAD_INPUT = 1, 2
@@ -129,7 +130,7 @@ def main(argv: list[str] | None = None) -> int:
 
     try:
         args = build_parser().parse_args(argv)
-        with interrupt.handling():
+        with interrupt.handling(), _standard_output():
             try:
                 code = COMMANDS[args.command](args)
             except Exception:
@@ -149,10 +150,7 @@ def main(argv: list[str] | None = None) -> int:
     except KeyboardInterrupt as exc:  # Ctrl-C, or SIGTERM (interrupt.Terminated): stopped alike
         return _interrupted(exc)
     except BrokenPipeError:  # `vphs blocks | head`: the reader left; not an error of ours
-        try:
-            sys.stdout = open(os.devnull, "w")
-        except OSError:
-            pass
+        _silence_stdout()  # a pipe named by -o (a FIFO, /dev/stdout) may have been the one
         return 0
     except Exception as exc:  # a bug in vphs, not in the input: still one line unless asked for more
         stop = interrupt.interrupt_of(exc)
@@ -165,6 +163,70 @@ def main(argv: list[str] | None = None) -> int:
             return EXIT_FAILED
         _say(f"vphs: internal error: {type(exc).__name__}: {exc} (set VPHS_DEBUG=1 for the traceback)")
         return EXIT_FAILED
+
+
+class _NamedStdout:
+    """Standard output while a command runs: a write or flush the system refuses (``> /dev/full``: a full
+    device) is an OSError naming 'standard output', reported as a failed write to a file named by ``-o``
+    is (one line, exit 1), not as an internal error; a reader that left stays a BrokenPipeError. Either
+    way the output is silenced (:func:`_silence_stdout`): what is left buffered cannot fail again on exit."""
+
+    def __init__(self, stream):
+        self._stream = stream
+
+    def __getattr__(self, name):
+        return getattr(self._stream, name)
+
+    def write(self, text):
+        return self._named(self._stream.write, text)
+
+    def flush(self):
+        return self._named(self._stream.flush)
+
+    @staticmethod
+    def _named(call, *args):
+        try:
+            return call(*args)
+        except OSError as exc:
+            if exc.errno is None:
+                raise
+            _silence_stdout()
+            if isinstance(exc, BrokenPipeError):
+                raise
+            raise OSError(exc.errno, exc.strerror, "standard output") from None
+
+
+@contextmanager
+def _standard_output():
+    """Within: ``sys.stdout`` names itself in its errors (:class:`_NamedStdout`); a command that ends
+    normally has what it left buffered written here, so that a reader that left before it
+    (`vphs validate | head -c 0`) or a full device is handled as any output's failure, not by the
+    interpreter on its way out ("Exception ignored ... BrokenPipeError", exit 120)."""
+    original = sys.stdout
+    if original is None:
+        yield
+        return
+    sys.stdout = _NamedStdout(original)
+    try:
+        yield
+        sys.stdout.flush()
+    finally:
+        sys.stdout = original
+
+
+def _silence_stdout() -> None:
+    """Standard output's file descriptor pointed at /dev/null once its reader left (as Python's documentation
+    advises for a broken pipe): what is still buffered for it goes nowhere when the interpreter flushes it on
+    exit, rather than failing there. A stream without a descriptor (a test's captured output) is left."""
+    try:
+        fd = sys.stdout.fileno()
+    except (AttributeError, ValueError, OSError):
+        return
+    devnull = os.open(os.devnull, os.O_WRONLY)
+    try:
+        os.dup2(devnull, fd)
+    finally:
+        os.close(devnull)
 
 
 def _interrupted(exc: KeyboardInterrupt) -> int:

@@ -18,7 +18,8 @@ The format (what ``vphs run -o`` writes, and what measurements and data-sheet re
   file does), several columns may go without a unit: the named one holds the group labels; any other
   column without a unit whose cells are all numbers is a dimensionless number (unit ``1``, e.g. a pilot
   ratio); one with any text cell is a column of labels, kept as written in ``Table.text`` (e.g. a
-  set-screw note) and never compared.
+  set-screw note) and never compared. A number written with a decimal comma (``"1,5"``) is not text: such a
+  column is read as numbers, and the cell is an error.
 - Every other cell is a finite number. An empty cell is a missing value (NaN in the table); a cell such as
   ``abc``, ``nan`` or ``inf`` is an error.
 
@@ -206,7 +207,7 @@ def _read_named_group(file: str, header_line: int, header: list[str], body: list
         if name == group:
             continue
         unit = units[name]
-        if unit is None and not all(_is_number(c) for c in cells_of[name]):
+        if unit is None and not all(is_number(c) or _decimal_comma(c) for c in cells_of[name]):
             text[name] = cells_of[name]
             continue
         unit = unit or "1"
@@ -219,7 +220,14 @@ def _read_named_group(file: str, header_line: int, header: list[str], body: list
                  text=text)
 
 
-def _is_number(cell: str) -> bool:
+def _decimal_comma(cell: str) -> bool:
+    """Whether a cell is a number written with a decimal comma ('1,5'): not read as a number, but not a label
+    either (a column of them is refused as numbers, not kept as text where a grouping column allows text)."""
+    return "," in cell and is_number(cell.replace(",", ".", 1))
+
+
+def is_number(cell: str) -> bool:
+    """Whether a cell reads as a finite number (an empty cell, a missing value, does)."""
     if cell == "":
         return True
     try:
@@ -279,7 +287,6 @@ def _number(file: str, line_no: int, col: int, header: str, cell: str) -> float:
     except ValueError:
         value = None
     if value is None or not math.isfinite(value):
-        hint = " (a decimal comma? numbers are read with a '.')" if _is_number(cell.replace(",", ".", 1)) \
-            and "," in cell else ""
+        hint = " (a decimal comma? numbers are read with a '.')" if _decimal_comma(cell) else ""
         raise DataFileError(file, f"column '{header}': '{cell}' is not a number{hint}", line_no, col)
     return value

@@ -71,16 +71,37 @@ def handling():
         _noted.clear()
 
 
+@contextmanager
+def deferred():
+    """Within: a SIGINT or SIGTERM whose handler is a Python function (Ctrl-C's KeyboardInterrupt,
+    :func:`handling`'s, an optimisation job's SIGTERM) is noted, not handled; on leaving, the first one
+    noted is handed to its handler, which raises as it would have. For a step that must not stop half-way:
+    the renames that put a set of result files in place, the clean-up that restores a calibration's output
+    folder after an interrupt (a second Ctrl-C there left it half-restored), an evaluation in a compiled
+    integrator. A signal ignored or left to the system's default stays so; outside the main thread (no
+    handlers there) the body just runs. Nested, the inner one hands a signal on to the outer one."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held = {number: handler for number in (signal.SIGINT, signal.SIGTERM)
+            if callable(handler := signal.getsignal(number))}
+    pending: list[int] = []
+    for number in held:
+        signal.signal(number, lambda signum, frame: pending.append(signum))
+    try:
+        yield
+    finally:
+        for number, handler in held.items():
+            signal.signal(number, handler)
+    if pending:
+        held[pending[0]](pending[0], None)  # delivered now: raises KeyboardInterrupt (or Terminated)
+
+
 def check() -> None:
     """Raise KeyboardInterrupt (:class:`Terminated` for a SIGTERM) if a signal was noted: once interrupted, a
     command stops at the next check."""
     if _noted:
         raise as_raised(_noted[0])
-
-
-def raises_interrupt(handler) -> bool:
-    """Whether ``handler`` is one that raises KeyboardInterrupt: Python's own, or :func:`handling`'s."""
-    return handler in (signal.default_int_handler, _note_and_raise)
 
 
 def interrupt_of(exc: BaseException) -> KeyboardInterrupt | None:

@@ -138,16 +138,14 @@ def write_together(*files) -> None:
     """Write files as one: each ``(path, write)`` pair's ``write(tmp)`` fills a temporary file beside its
     target (of the target's suffix, which matplotlib reads the format from), and only when every one is
     written are they renamed into place, a Ctrl-C during those renames taken after them. An error or an interrupt
-    before then leaves every target as it was: a results CSV and its plot are never of two different runs.
+    before then leaves every target as it was, and the staged files removed (a second Ctrl-C taken after
+    that): a results CSV and its plot are never of two different runs, no half-written file is left beside.
 
     A target that is a symbolic link is written through: the file it points to is replaced, the link kept.
     A target that exists and is not a regular file (a named pipe, a device), or that names one of the
     process's own streams (/dev/stdout, /proc/self/fd/1, which the shell may have pointed at a file it
     appends to), cannot be replaced by a rename without being destroyed: what was staged for it is
     appended to it instead, after the renames (a pipe that no process reads is an error, not a wait)."""
-    import signal
-    import threading
-
     from blocks import interrupt
 
     staged: list[tuple[Path, Path]] = []
@@ -166,29 +164,17 @@ def write_together(*files) -> None:
             os.chmod(tmp, _umask_mode())  # mkstemp makes 0600; a result file is as readable as any other
         if len({os.path.realpath(path) for _, path in staged}) < len(staged):
             raise ValueError("write_together: two of the files are one path")
-        interrupted = []
-        held = threading.current_thread() is threading.main_thread()
-        previous = {}
-        if held:  # a handler that only takes note: whichever thread the signal reaches, Python runs it here;
-            # SIGTERM too where it is raised as an interrupt (blocks.interrupt.handling), not where ignored
-            previous = {number: signal.signal(number, lambda signum, frame: interrupted.append(signum))
-                        for number in (signal.SIGINT, signal.SIGTERM)
-                        if number == signal.SIGINT or interrupt.raises_interrupt(signal.getsignal(number))}
-        try:
+        with interrupt.deferred():  # a Ctrl-C or SIGTERM taken after the renames
             for tmp, path in staged:
                 if not special_target(path):
                     os.replace(tmp, path)
-        finally:
-            for number, handler in previous.items():
-                signal.signal(number, handler)
-        if interrupted:
-            raise interrupt.as_raised(interrupted[0])
         for tmp, path in staged:
             if special_target(path):
                 _append_into(tmp, path)
     except BaseException:
-        for tmp, _ in staged:
-            tmp.unlink(missing_ok=True)
+        with interrupt.deferred():  # a second Ctrl-C leaves no staged (half-written) file behind
+            for tmp, _ in staged:
+                tmp.unlink(missing_ok=True)
         raise
 
 

@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.experiment import Experiment, described, unit_problem
-from blocks.datafile import DataFileError, Table, header_of, read_table
+from blocks.datafile import DataFileError, Table, header_of, is_number, read_table
 from blocks.units import parse_unit, quantity_name, si_name, split_quantity
 
 
@@ -159,13 +159,7 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     if exp.spec.repeats is not None:
         if kind != "steady":
             raise exp.error(("repeats",), "repeats: marks repeated steady points; a time series has none")
-        if exp.spec.repeats not in table.columns:
-            raise DataFileError(table.file, f"no column '{exp.spec.repeats}' (the experiment's repeats:); columns: "
-                                            f"{', '.join(table.columns)}", table.header_line)
-        ids = table.columns[exp.spec.repeats]
-        bad = np.nonzero(~np.isfinite(ids))[0]
-        if bad.size:
-            raise table.error("empty cell in the column that marks repeated points", exp.spec.repeats, int(bad[0]))
+        ids = _repeat_numbers(table, exp.spec.repeats)
     if exp.groups:
         missing = sorted(set(labels) - set(exp.groups), key=str)
         if missing and group is not None:
@@ -188,6 +182,24 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
             sigma[ch.name] = _from_differences(exp, ch, measured[ch.name])
             notes[ch.name] = "estimated from second differences"
     return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
+
+
+def _repeat_numbers(table: Table, name: str) -> np.ndarray:
+    """The column ``name`` that numbers repeated points (the experiment's ``repeats:``), a number in every row.
+    Beside a grouping column a column with a text cell is read as labels (:func:`blocks.datafile.read_table`):
+    its first text cell is the error, not a column said to be missing."""
+    if name in table.text:
+        k, cell = next((k, c) for k, c in enumerate(table.text[name]) if not is_number(c))
+        raise table.error(f"'{cell}' is not a number: the experiment's repeats: column numbers the repeated points "
+                          f"(rows of a group with the same number are one operating point set up again)", name, k)
+    if name not in table.columns:
+        raise DataFileError(table.file, f"no column '{name}' (the experiment's repeats:); columns: "
+                                        f"{', '.join(table.columns)}", table.header_line)
+    ids = table.columns[name]
+    bad = np.nonzero(~np.isfinite(ids))[0]
+    if bad.size:
+        raise table.error("empty cell in the column that marks repeated points", name, int(bad[0]))
+    return ids
 
 
 UNITLESS = ("has no unit; name it as the experiment's 'group:' (the grouping column) or 'repeats:' (the column "

@@ -546,7 +546,8 @@ def read_by_netlist(circuit, data_files: list[Path]) -> list[tuple[str, str]]:
 def _read_group_table(spec, located, base: Path, groups: dict, param_name, parameters) -> None:
     """The values per group from ``group_table.file``: one row per group; each mapped column in a unit of its
     parameter's dimension (a column in kg for a pressure, or without a unit for one, is refused as a data
-    column is: read in SI it would set 95.4 Pa for '95.4' meant in bar) and a number in every row."""
+    column is: read in SI it would set 95.4 Pa for '95.4' meant in bar; where the netlist gives the parameter
+    no dimension, in a unit its readers allow, :func:`_check_undimensioned_column`) and a number in every row."""
     from blocks.datafile import DataFileError, header_of, read_table
 
     gt = spec.group_table
@@ -566,10 +567,12 @@ def _read_group_table(spec, located, base: Path, groups: dict, param_name, param
                                 f"group_table: no numeric column '{column}' in {gt.file} "
                                 f"(columns: {', '.join(table.columns)})")
         dims = parameters.dimension(target)
-        if dims is None:  # the netlist does not say: the column's unit gives the value in SI
+        sets = f"it sets {target} (group_table.columns.{shown_key(column)} in {Path(located.file).name})"
+        if dims is None:  # the netlist does not say: the column's unit must suit what the readers make of it
+            _check_undimensioned_column(table, column, bracketed.get(column), sets, parameters.unit_conflict(
+                target, parse_unit(table.units[column])))
             continue
         si_unit = si_name(dims)
-        sets = f"it sets {target} (group_table.columns.{shown_key(column)} in {Path(located.file).name})"
         if bracketed.get(column) is None and si_unit != "1":
             suggestion = display_unit(parameters.entries[target])
             try:
@@ -594,6 +597,21 @@ def _read_group_table(spec, located, base: Path, groups: dict, param_name, param
             if not np.isfinite(value):
                 raise table.error(f"no value for group '{label}' (an empty cell); it sets {target}", column, k)
             groups.setdefault(label, {})[target] = value
+
+
+def _check_undimensioned_column(table, column: str, bracketed: str | None, sets: str, conflict: str | None) -> None:
+    """A group-table column setting a parameter the netlist gives no dimension: its values are converted with
+    the column's unit (a column without one: plain numbers), as ``groups:`` values are (:meth:`blocks.netlist.
+    parameters.ParameterTable.value_si`); where the parameter's readers refuse that dimension (``conflict``:
+    'f [mm]' for the factor in ``p_set*f``), an error, not a value silently taken in SI."""
+    from blocks.datafile import DataFileError
+
+    if conflict is None:
+        return
+    if bracketed is None:
+        raise DataFileError(table.file, f"column '{column}' has no unit, but {sets}, and {conflict}: write the unit "
+                            f"in brackets", table.header_line, table.positions[column])
+    raise table.error(f"{quantity_name(parse_unit(bracketed))}, but {sets}, and {conflict}", column)
 
 
 def channel_unit(ch: ChannelSpec, levels: list[str], table, signals: dict) -> str:

@@ -14,7 +14,10 @@ report.json beside the old report.md. So, around a run (:func:`replacing`):
     (a folder the run created is removed again); if it stops while the entries are being moved aside, they
     are moved back and nothing is deleted.
 
-Every step leaves a state the next run can read, so a run killed outright (no chance to clean up) is undone
+Each of these steps runs to its end before a Ctrl-C or SIGTERM is taken (:func:`blocks.interrupt.deferred`):
+a second Ctrl-C while an interrupted run is being undone used to stop the undoing half-way, leaving the
+folder with part of the unfinished run's entries and the previous output hidden in ``.previous``. Every
+step leaves a state the next run can read, so a run killed outright (no chance to clean up) is undone
 by the next one before it starts: a ``.discard`` is deleted (the run had finished); a ``.previous.partial``
 is moved back whole (it stopped while moving aside: the folder holds the rest of the previous output); a
 ``.previous`` is restored (it stopped during the run: what the folder holds is that run's, unfinished).
@@ -28,6 +31,7 @@ import shutil
 from contextlib import contextmanager
 from pathlib import Path
 
+from blocks import interrupt
 from blocks.errors import VphsError
 
 PREVIOUS = ".previous"
@@ -116,29 +120,45 @@ def check_creatable(folder: Path) -> None:
 @contextmanager
 def replacing(folder: Path):
     """Run the body with ``folder`` cleared of a previous calibration's entries; keep what the body wrote
-    only if it ends normally (module docstring)."""
+    only if it ends normally (module docstring). Undoing a run, and discarding the previous output after
+    one, runs to its end before a further Ctrl-C or SIGTERM is taken."""
     folder = Path(folder)
     created = _make(folder)
     _recover(folder)
-    moving = folder / MOVING
+    started = False
     try:
-        previous = owned(folder)
-        if previous:
-            moving.mkdir()
-            for path in previous:
-                path.rename(moving / path.name)
-            moving.rename(folder / PREVIOUS)
-    except BaseException:
-        if moving.is_dir():
-            _move_back(moving, folder)
-        raise
-    try:
+        _move_aside(folder)
+        started = True
         yield folder
     except BaseException:
-        _restore(folder)
-        if created and folder.is_dir() and not any(folder.iterdir()):
-            folder.rmdir()
+        with interrupt.deferred():
+            _undo(folder, started)
+            if created and folder.is_dir() and not any(folder.iterdir()):
+                folder.rmdir()
         raise
-    if (folder / PREVIOUS).is_dir():
-        (folder / PREVIOUS).rename(folder / DISCARD)
-        shutil.rmtree(folder / DISCARD)
+    with interrupt.deferred():
+        if (folder / PREVIOUS).is_dir():
+            (folder / PREVIOUS).rename(folder / DISCARD)
+            shutil.rmtree(folder / DISCARD)
+
+
+def _move_aside(folder: Path) -> None:
+    """The owned entries of ``folder`` moved into ``.previous.partial``, which is then renamed ``.previous``."""
+    previous = owned(folder)
+    if previous:
+        moving = folder / MOVING
+        moving.mkdir()
+        for path in previous:
+            path.rename(moving / path.name)
+        moving.rename(folder / PREVIOUS)
+
+
+def _undo(folder: Path, started: bool) -> None:
+    """``folder`` put back as it was before a run that failed or was interrupted: stopped while the previous
+    entries were being moved aside, those moved are moved back (nothing deleted: the folder holds the rest of
+    the previous output); once they all were (``.previous``) or the run ``started``, the entries in the folder
+    are the run's: deleted, and the previous ones restored."""
+    if (folder / MOVING).is_dir():
+        _move_back(folder / MOVING, folder)
+    elif started or (folder / PREVIOUS).is_dir():
+        _restore(folder)

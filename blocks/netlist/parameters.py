@@ -244,11 +244,25 @@ class ParameterTable:
         if known is not None:
             if not given.same_dimension(known):
                 raise UnitError(f"wrong unit '{unit_text}': {name} is in {known.describe_dims()}")
-        elif entry.expression is None:  # a bare number: what its readers' expressions make of it
-            conflict = self._conflict(name, given)
+        else:
+            conflict = self.unit_conflict(name, given)
             if conflict:
-                raise UnitError(f"wrong unit '{unit_text}': with {name} in {given.describe_dims()}, {conflict}")
+                raise UnitError(f"wrong unit '{unit_text}': {conflict}")
         return number * given.factor
+
+    def unit_conflict(self, name: str, given: Unit) -> str | None:
+        """Why a value of ``name`` in the dimension ``given`` cannot be one, where the netlist gives ``name`` no
+        dimension (:meth:`dimension` None): for a bare number, what its readers' expressions make of it
+        ('with n_gear in rpm, J: wrong unit ...'); None if nothing says against it (a bare number put only
+        where any unit goes, or a value given by an expression). Shared by :meth:`value_si` and the values
+        read from a data file's column (an experiment's group table), so that a unit is checked alike."""
+        if self.entries[name].expression is not None:
+            return None
+        conflict = self._conflict(name, given)
+        if conflict is None:
+            return None
+        what = "a plain number" if given.same_dimension(parse_unit("1")) else f"in {given.describe_dims()}"
+        return f"with {name} {what}, {conflict}"
 
     def _conflict(self, name: str, dims: Unit) -> str | None:
         """What a bare number's readers say against it being in ``dims`` (None: nothing): the dimension check

@@ -65,24 +65,10 @@ def interrupt_after_evaluation():
     """Ctrl-C (and SIGTERM where :func:`terminate_as_interrupt` handles it) while this process evaluates
     ends the job after the evaluation, not inside it: raised inside the compiled integrator,
     KeyboardInterrupt surfaces as a SystemError that would look like a failed design. Evaluations take
-    milliseconds to seconds; a second signal waits as well. A signal ignored or handled otherwise is left
-    alone."""
-    deferred = {number: handler for number, handler in ((signal.SIGINT, signal.getsignal(signal.SIGINT)),
-                                                        (signal.SIGTERM, signal.getsignal(signal.SIGTERM)))
-                if interrupt.raises_interrupt(handler) or handler is terminate_as_interrupt}
-    if threading.current_thread() is not threading.main_thread() or not deferred:
+    milliseconds to seconds; a second signal waits as well. A signal ignored or left to the system's default
+    is left alone (:func:`blocks.interrupt.deferred`)."""
+    with interrupt.deferred():
         yield
-        return
-    pending = []
-    for number in deferred:
-        signal.signal(number, lambda number, frame: pending.append(number))
-    try:
-        yield
-    finally:
-        for number, handler in deferred.items():
-            signal.signal(number, handler)
-    if pending:
-        deferred[pending[0]](pending[0], None)  # delivered now: raises KeyboardInterrupt (or Terminated)
 
 
 class SerialExecutor:
