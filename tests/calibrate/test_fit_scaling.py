@@ -29,7 +29,7 @@ NETLIST = {
     "components": {"tank": {"type": "tank"}, "source": {"type": "pressure_source", "params": {"p": "p_in"}},
                    "meter": {"type": "flow_sensor", "params": {"R": "R_meter"}},
                    "res": {"type": "laminar_orifice", "params": {"G": "G"}}},
-    "nets": {"T": ["tank.port", "res.b"], "P": {"ports": ["source.port", "meter.a"], "volume": "0.01 l"},
+    "nets": {"T": ["tank.port", "res.b"], "P": ["source.port", "meter.a"],
              "M": {"ports": ["meter.b", "res.a"], "volume": "0.01 l"}},
     "outputs": {"q": {"of": "meter.q", "unit": "l/min"}},
     "simulation": {"t_end": "0.5 s", "dt_out": "5 ms", "rtol": 1e-10, "atol": 1e-12},
