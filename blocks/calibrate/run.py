@@ -650,7 +650,8 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
                                out: Path) -> Path:
     """The experiment file for the augmented model: same data, the new netlist, the accepted parameters
     free beside the declared ones (every free parameter starting at its fitted value: a declared one in the
-    unit it is shown in, an effect's in SI), sensor corrections fixed at their fitted values (SI)."""
+    unit it is shown in, an effect's in SI), sensor corrections fixed at their fitted values (an offset in its
+    channel's unit, as the data are: a bare number there is refused as one read in SI; a gain bare)."""
     import os
 
     data = dict(exp.located.data)
@@ -680,7 +681,8 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
                             (("initial", value), ("lower", float(g.lower)), ("upper", float(g.upper)))}
         elif g.kind == "correction":
             what, ch = g.name.split(":", 1)
-            corrections.setdefault(ch, {})[what] = value
+            unit = next(c.unit for c in exp.channels if c.name == ch) if what == "offset" else "1"
+            corrections.setdefault(ch, {})[what] = written(value, unit)
     data["free"] = free
     if corrections:
         data["corrections"] = corrections
