@@ -37,6 +37,7 @@ from blocks.calibrate.experiment import load_experiment
 DATA = Path(__file__).resolve().parent / "data"
 NETLIST = DATA / "orifice_relief.yaml"
 MEASURED = DATA / "orifice_relief_offset.csv"  # a pM sensor offset of +0.5 bar planted
+DRIVE = Path(__file__).resolve().parents[2] / "netlists" / "experiments" / "circuits" / "drive_line_open.yaml"
 FIRST_ROW_LINE = 4  # two comment lines and the header above the first data row
 
 
@@ -113,6 +114,20 @@ def test_a_bare_offset_is_refused_as_a_bare_noise_is_and_a_bare_gain_is_not(tmp_
                         rf"with one \(e\.g\. \"0\.5 bar\"\): a bare number would be read in SI, as 0\.5 Pa", line), line
     exp = load_experiment(write(tmp_path, spec(corrections={"pM": {"offset": "0.5 bar", "gain": 0.01}})))
     assert exp.corrections["pM"] == {"offset": pytest.approx(0.5e5, rel=1e-12), "gain": 0.01}
+
+
+def test_a_bare_offset_is_refused_where_the_data_column_gives_the_channels_dimension(tmp_path, capsys):
+    """A profile's levels take any unit, so the column decides the input's dimension (bar here), as for its
+    noise: a bare offset would be read in SI."""
+    (tmp_path / "data.csv").write_text("t [s],cmd [bar],pA [bar]\n" + "".join(f"{k / 10:g},0,20\n" for k in range(8)))
+    path = write(tmp_path, {"netlist": str(DRIVE), "data": "data.csv",
+                            "inputs": {"cmd": {"signal": "cmd", "latent": ["u1"], "noise": "0.01 bar"}},
+                            "outputs": {"pA": {"signal": "pA", "noise": "1 bar"}},
+                            "corrections": {"cmd": {"offset": 0.5}}})
+    line = refused(capsys, path)
+    assert re.fullmatch(rf"vphs: {re.escape(str(path))}:\d+:\d+: corrections\.cmd\.offset: 0\.5 has no unit, but cmd "
+                        rf"is in the column 'cmd \[bar\]' of data\.csv, a pressure \(Pa\): write it with one "
+                        rf"\(e\.g\. \"0\.5 bar\"\)", line), line
 
 
 def test_the_augmented_experiment_gives_the_fitted_offset_in_its_channels_unit(offset_run):
