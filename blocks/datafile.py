@@ -13,8 +13,9 @@ The format (what ``vphs run -o`` writes, and what measurements and data-sheet re
 - At most one column may have no unit: the grouping column (``setting``, ``run``). Its cells are labels
   (text), kept as written and never read as numbers, so a forgotten unit cannot pass silently as a number
   in SI; a second column without a unit is an error. An empty label is an error too: it is a cell left
-  blank, not a group of its own (a group '' silently split the rows into one more group). A caller may name columns that go without a unit as
-  plain numbers (``read_table(path, plain=("point",))``: a column that numbers repeated points).
+  blank, not a group of its own (a group '' silently split the rows into one more group). A caller may
+  name columns that go without a unit as plain numbers (``read_table(path, plain=("point",))``: a column
+  that numbers repeated points).
 - When the caller names the grouping column (``read_table(path, group="setting")``, as an experiment
   file does), several columns may go without a unit: the named one holds the group labels; any other
   column without a unit whose cells are all numbers is a dimensionless number (unit ``1``, e.g. a pilot
