@@ -123,14 +123,17 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def main(argv: list[str] | None = None) -> int:
+def main(argv: list[str] | None = None, process: bool = False) -> int:
+    """Run one `vphs` command; its exit code. ``process``: the command is the whole process (:func:`entry`), so
+    a Ctrl-C after its output is complete stays ignored through the interpreter's exit
+    (:func:`blocks.interrupt.handling`); a caller in the same process gets its signal handlers back."""
     from blocks.errors import VphsError, SimulationError
 
     from blocks import interrupt
 
     try:
         args = build_parser().parse_args(argv)
-        with interrupt.handling(), _standard_output():
+        with interrupt.handling(process), _standard_output():
             try:
                 code = COMMANDS[args.command](args)
             except Exception:
@@ -241,7 +244,7 @@ def entry() -> None:
     """The `vphs` command: :func:`main`, and its exit code. After a Ctrl-C, what an interrupted compilation
     left half-built (llvmlite's objects) may fail to finalise as the interpreter exits: that is not printed
     after the one line."""
-    code = main()
+    code = main(process=True)
     if code in (130, 143):
         sys.unraisablehook = lambda unraisable: None
     sys.exit(code)

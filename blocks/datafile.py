@@ -12,8 +12,10 @@ The format (what ``vphs run -o`` writes, and what measurements and data-sheet re
   plain number.
 - At most one column may have no unit: the grouping column (``setting``, ``run``). Its cells are labels
   (text), kept as written and never read as numbers, so a forgotten unit cannot pass silently as a number
-  in SI; a second column without a unit is an error. A caller may name columns that go without a unit as
-  plain numbers (``read_table(path, plain=("point",))``: a column that numbers repeated points).
+  in SI; a second column without a unit is an error. An empty label is an error too: it is a cell left
+  blank, not a group of its own (a group '' silently split the rows into one more group). A caller may
+  name columns that go without a unit as plain numbers (``read_table(path, plain=("point",))``: a column
+  that numbers repeated points).
 - When the caller names the grouping column (``read_table(path, group="setting")``, as an experiment
   file does), several columns may go without a unit: the named one holds the group labels; any other
   column without a unit whose cells are all numbers is a dimensionless number (unit ``1``, e.g. a pilot
@@ -134,8 +136,9 @@ def read_table(path: str | Path, group: str | None = None, plain: tuple[str, ...
                 labels.append(cell)
                 continue
             columns[name][k] = _number(file, line_no, col, header[col - 1], cell) * factors[name]
-    return Table(file=file, columns=columns, units=units, group=group, labels=labels if group else None,
-                 header_line=header_line, lines=lines, positions={n: i for i, n in enumerate(names, start=1)})
+    return _labelled(Table(file=file, columns=columns, units=units, group=group, labels=labels if group else None,
+                           header_line=header_line, lines=lines,
+                           positions={n: i for i, n in enumerate(names, start=1)}))
 
 
 def header_of(path: str | Path) -> tuple[int, list[tuple[str, str | None]]]:
@@ -215,9 +218,19 @@ def _read_named_group(file: str, header_line: int, header: list[str], body: list
         columns[name] = np.array([_number(file, line_no, col, header[col - 1], cell) * factor
                                   for line_no, cell in zip(lines, cells_of[name])])
         out_units[name] = unit
-    return Table(file=file, columns=columns, units=out_units, group=group, labels=cells_of[group],
-                 header_line=header_line, lines=lines, positions={n: i for i, n in enumerate(names, start=1)},
-                 text=text)
+    return _labelled(Table(file=file, columns=columns, units=out_units, group=group, labels=cells_of[group],
+                           header_line=header_line, lines=lines,
+                           positions={n: i for i, n in enumerate(names, start=1)}, text=text))
+
+
+def _labelled(table: Table) -> Table:
+    """``table``, refused at its first empty group label: a blank cell of the grouping column is a missing
+    label (as an empty numeric cell is a missing value), not a group named '' that would take the row into a
+    group of its own (a held-out fold of one point, a group no ``groups:`` entry can name)."""
+    blank = next((k for k, label in enumerate(table.labels or []) if label == ""), None)
+    if blank is not None:
+        raise table.error("empty cell: every row needs its group label", table.group, blank)
+    return table
 
 
 def _decimal_comma(cell: str) -> bool:

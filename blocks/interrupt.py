@@ -17,6 +17,14 @@ nothing and killed the process outright, leaving a calibration's output folder h
 augmented experiment) where Ctrl-C leaves nothing behind. Within :func:`handling` it raises
 :class:`Terminated`, a KeyboardInterrupt, so that every command stops as on Ctrl-C (its partial output
 undone) and says so, exiting 128 + 15 = 143. A SIGTERM the process was started ignoring stays ignored.
+
+Once a command's output is complete and in place (:func:`finished`), a Ctrl-C or SIGTERM is ignored to the
+end: there is nothing left to stop or undo, and an exit 130 would tell a script that the run failed. A
+review found a Ctrl-C just after `vphs calibrate`'s last "wrote ..." line ending the process with 130 and
+no message, its output whole: the signal came while the interpreter shut down, after the handlers had been
+put back. For the `vphs` process (:func:`handling` with ``process=True``) the signals stay ignored after the
+command returns, through the interpreter's exit; a caller in the same process (a test) gets its handlers
+back.
 """
 
 from __future__ import annotations
@@ -27,6 +35,7 @@ import threading
 from contextlib import contextmanager
 
 _noted: list[int] = []
+_state = {"handling": False, "finished": False}
 
 
 class Terminated(KeyboardInterrupt):
@@ -44,13 +53,16 @@ def _note_and_raise(signum, frame):
 
 
 @contextmanager
-def handling():
+def handling(process: bool = False):
     """Within: every SIGINT and SIGTERM is noted (main thread only; elsewhere signals cannot be handled);
-    a SIGTERM ignored when the command started (``nohup``-like launchers, a parent's choice) stays ignored."""
+    a SIGTERM ignored when the command started (``nohup``-like launchers, a parent's choice) stays ignored.
+    On leaving, the previous handlers are put back, unless ``process`` (the command is the whole process)
+    and the command :func:`finished`: then the signals stay ignored through the interpreter's exit."""
     if threading.current_thread() is not threading.main_thread():
         yield
         return
     _noted.clear()
+    _state.update(handling=True, finished=False)
     previous = {number: signal.signal(number, _note_and_raise) for number in (signal.SIGINT, signal.SIGTERM)
                 if signal.getsignal(number) is not signal.SIG_IGN or number == signal.SIGINT}
     previous_hook = sys.unraisablehook
@@ -65,10 +77,25 @@ def handling():
     try:
         yield
     finally:
-        for number, handler in previous.items():
-            signal.signal(number, handler)
+        if not (process and _state["finished"]):
+            for number, handler in previous.items():
+                signal.signal(number, handler)
         sys.unraisablehook = previous_hook
         _noted.clear()
+        _state.update(handling=False, finished=False)
+
+
+def finished() -> None:
+    """The command's output is complete and in place: from here on a SIGINT or SIGTERM is ignored (module
+    docstring), and one noted before but not yet taken is dropped (what it would have stopped is done).
+    Only within :func:`handling` (a command of the `vphs` process or of a test calling it), in the main
+    thread: elsewhere the caller's handlers are not this module's to change."""
+    if not _state["handling"] or threading.current_thread() is not threading.main_thread():
+        return
+    for number in (signal.SIGINT, signal.SIGTERM):
+        signal.signal(number, signal.SIG_IGN)
+    _noted.clear()
+    _state["finished"] = True
 
 
 @contextmanager

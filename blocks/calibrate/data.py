@@ -231,23 +231,17 @@ def _check_unit(exp: Experiment, table: Table, ch, file) -> None:
     """A channel's column in a unit of the channel's dimension (:func:`blocks.calibrate.experiment.unit_problem`:
     the netlist's, for inputs and outputs alike); a column without unit only for a dimensionless channel.
     Where the netlist does not give the dimension (``ch.si_unit`` "", :func:`~blocks.calibrate.experiment.
-    channel_unit`) the first file's column gives it, and the given noise is checked against that."""
+    channel_unit`) the first file's column gives it, and the given noise and sensor offset are checked against
+    that (:func:`_check_given`)."""
     given = table.units[ch.name]
     if ch.si_unit in ("", "SI"):
         ch.si_unit = si_name(parse_unit(given))
         raw = (exp.spec.inputs if ch.role == "input" else exp.spec.outputs)[ch.name].noise
-        if ch.noise_method != "given":
-            return
-        column = f"in the column '{table.header(ch.name)}' of {Path(file).name}"
-        unit = split_quantity(raw)[1] if isinstance(raw, str) else ""
-        where, label = (f"{ch.role}s", ch.name, "noise"), f"{ch.role}s.{ch.name}.noise"
-        if unit:
-            problem = unit_problem(unit, ch, ch.name, column)
-            if problem:
-                raise exp.error(where, f"{label}: wrong unit: '{raw}' is {problem}")
-        elif ch.si_unit != "1":  # read in SI, 0.01 as 0.01 Pa, where the column is in bar
-            raise exp.error(where, f"{label}: {raw} has no unit, but {ch.name} is {column}, {described(ch.si_unit)}: "
-                                   f"write it with one (e.g. \"{raw} {given}\")")
+        if ch.noise_method == "given":
+            _check_given(exp, table, ch, file, (f"{ch.role}s", ch.name, "noise"), raw)
+        offset = exp.spec.corrections.get(ch.name, {}).get("offset")
+        if offset is not None:
+            _check_given(exp, table, ch, file, ("corrections", ch.name, "offset"), offset)
         return
     problem = unit_problem(given, ch)
     if problem is None:
@@ -259,6 +253,22 @@ def _check_unit(exp: Experiment, table: Table, ch, file) -> None:
                           f"'{ch.name} [<unit>]'", ch.name)
     raise table.error(f"dimensionless (no unit in brackets?), but it is {ch.place}, {described(ch.si_unit)}: write "
                       f"it as '{ch.name} [<unit>]'", ch.name)
+
+
+def _check_given(exp: Experiment, table: Table, ch, file, where: tuple, raw) -> None:
+    """A value the experiment gives in the unit of a channel whose dimension its data column decides (its noise,
+    its sensor offset, at ``where``), checked against the column: a unit of another dimension is refused, and
+    so is a bare number where the column has a dimension (read in SI, 0.01 as 0.01 Pa where it is in bar)."""
+    column = f"in the column '{table.header(ch.name)}' of {Path(file).name}"
+    unit = split_quantity(raw)[1] if isinstance(raw, str) else ""
+    label = ".".join(where)
+    if unit:
+        problem = unit_problem(unit, ch, ch.name, column)
+        if problem:
+            raise exp.error(where, f"{label}: wrong unit: '{raw}' is {problem}")
+    elif ch.si_unit != "1":
+        raise exp.error(where, f"{label}: {raw} has no unit, but {ch.name} is {column}, {described(ch.si_unit)}: "
+                               f"write it with one (e.g. \"{raw} {table.units[ch.name]}\")")
 
 
 def _join_runs(exp: Experiment, parts: list[Dataset], files: list) -> Dataset:

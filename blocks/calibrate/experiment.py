@@ -33,7 +33,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
                                                 # Newton, started from its first settling run) or settle
     trace: {rounds: 3, top: 3, exclude: [extra_volume]}   # or only: [flow_force, leakage]; top: refits a round
     solver: {rtol: 1e-8, atol: 1e-8}     # tolerances of the calibration runs (default: the netlist's)
-    corrections: {p1: {offset: "0.3 bar", gain: 0.01}}   # sensor corrections held fixed (a relative gain)
+    corrections: {p1: {offset: "0.3 bar", gain: 0.01}}   # sensor corrections held fixed (an offset with its
+                                                          # channel's unit, a relative gain)
 
 Errors name the file, line and column (the style of :mod:`blocks.netlist.flatten`). Every measured column,
 imposed or compared, and its noise are in a unit of the dimension the netlist gives the channel
@@ -77,7 +78,7 @@ from blocks.errors import NetlistError
 from blocks.netlist.parameters import ParameterError
 from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.units import (GENERIC, UnitError, display_factor, nearest, parse_unit, quantity, quantity_name, si_name,
-                          si_value, split_quantity)
+                          split_quantity)
 
 from blocks.netlist.spec import Value  # a number, or '<number> <unit>'; never a YAML boolean (step: true was 1)
 
@@ -376,7 +377,7 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
                 channel.noise_method = ch.noise.strip()
             else:
                 try:
-                    channel.noise = noise_si(ch.noise, channel)
+                    channel.noise = channel_si(ch.noise, channel)
                 except UnitError as exc:
                     raise located.error(path + ("noise",), f"{role}s.{name}.noise: {exc}") from None
                 if not channel.noise > 0:
@@ -480,13 +481,8 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
         unknown = set(corr) - {"offset", "gain"}
         if unknown:
             raise located.error(("corrections", ch_name), f"corrections.{ch_name}: only offset and gain")
-        try:
-            corrections[ch_name] = {
-                "offset": quantity(corr.get("offset", 0.0), channel.si_unit) if channel.si_unit not in ("", "1", "SI")
-                else si_value(corr.get("offset", 0.0)),
-                "gain": float(quantity(corr.get("gain", 0.0), "1"))}
-        except UnitError as exc:
-            raise located.error(("corrections", ch_name), f"corrections.{ch_name}: {exc}") from None
+        corrections[ch_name] = {key: _correction(located, ch_name, key, corr.get(key, 0.0), channel)
+                                for key in ("offset", "gain")}
     exact = read_by_netlist(circuit, data_files)
     for ch in channels:
         if spec.inputs.get(ch.name) is not None and ch.role == "input" and spec.inputs[ch.name].latent == "trace":
@@ -677,11 +673,12 @@ def described(si_unit: str) -> str:
     return f"{quantity_name(dims)} ({'dimensionless' if si_unit == '1' else si_unit})"
 
 
-def noise_si(raw, channel: Channel) -> float:
-    """A given noise level in SI. Its unit must fit the channel's dimension (:func:`unit_problem`; not
-    checked where it is not known, ``si_unit`` "": then against the data column, in
-    :mod:`blocks.calibrate.data`), and a dimensioned channel's noise needs a unit (a bare number would be
-    read in SI, 0.2 as 0.2 Pa)."""
+def channel_si(raw, channel: Channel) -> float:
+    """A quantity of ``channel``'s dimension in SI: its given noise level, or a sensor correction's offset.
+    Its unit must fit the channel's dimension (:func:`unit_problem`; not checked where it is not known,
+    ``si_unit`` "": then against the data column, in :mod:`blocks.calibrate.data`), and for a dimensioned
+    channel it needs a unit (a bare number would be read in SI, a noise 0.2 or an offset 0.5 meant in bar as
+    0.2 or 0.5 Pa)."""
     if isinstance(raw, bool) or not isinstance(raw, (int, float, str)):
         raise UnitError(f"expected a number or a '<number> <unit>' string, got {raw!r}")
     number, unit_text = (float(raw), "") if not isinstance(raw, str) else split_quantity(raw)
@@ -695,6 +692,16 @@ def noise_si(raw, channel: Channel) -> float:
     if problem:
         raise UnitError(f"wrong unit: '{raw}' is {problem}")
     return number * parse_unit(unit_text).factor
+
+
+def _correction(located, ch_name: str, key: str, raw, channel: Channel) -> float:
+    """A sensor correction of ``channel`` in SI: its ``offset``, a quantity of the channel's dimension
+    (:func:`channel_si`: a bare number refused where the channel has a dimension, as a noise is), or its
+    ``gain``, a relative gain error (dimensionless: a bare number)."""
+    try:
+        return channel_si(raw, channel) if key == "offset" else float(quantity(raw, "1"))
+    except UnitError as exc:
+        raise located.error(("corrections", ch_name, key), f"corrections.{ch_name}.{key}: {exc}") from None
 
 
 def display_unit(entry, given: FreeSpec | None = None) -> str:

@@ -9,7 +9,9 @@ report.json beside the old report.md. So, around a run (:func:`replacing`):
   - the entries of the folder that a calibration writes (:data:`OWNED`) are moved into ``.previous.partial``
     (renames within one folder: nothing is copied), which is renamed ``.previous`` once all are in; the run
     writes into a folder without them;
-  - when the run and its report are written, ``.previous`` is renamed ``.discard`` and deleted;
+  - when the run and its report are written, the output is complete: a Ctrl-C or SIGTERM from then on is
+    ignored (:func:`blocks.interrupt.finished`; it used to end the process with 130 and no message), and
+    ``.previous`` is renamed ``.discard`` and deleted;
   - when the run fails or is interrupted, the entries it wrote are deleted and the previous ones moved back
     (a folder the run created is removed again); if it stops while the entries are being moved aside, they
     are moved back and nothing is deleted.
@@ -136,6 +138,7 @@ def replacing(folder: Path):
             if created and folder.is_dir() and not any(folder.iterdir()):
                 folder.rmdir()
         raise
+    interrupt.finished()  # the run's output is complete and in place: nothing is left to stop or undo
     with interrupt.deferred():
         if (folder / PREVIOUS).is_dir():
             (folder / PREVIOUS).rename(folder / DISCARD)

@@ -1,7 +1,9 @@
 """The calibration report: ``report.md`` (for people), ``report.json`` (the same numbers for programs),
 ``residuals.png`` (residuals against the variable the found effect depends on, before and after) and
 ``fit.png`` (the declared and final models against the data), all written atomically into the output folder
-beside the screening and augmented netlists.
+beside the screening and augmented netlists. Every path in ``report.json`` (the experiment, netlist and data
+files, the calibrated, round, exchange and elimination netlists) is absolute, whatever folder the run was
+started from and however the files were named on its command line.
 """
 
 from __future__ import annotations
@@ -15,6 +17,7 @@ from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
 from blocks.calibrate.fit import ran_rows
 from blocks.calibrate.outliers import largest
 from blocks.calibrate.selection import LINEARISED, several_minima
+from blocks.calibrate.verdict import final_effects
 from blocks.result import atomic_write_figure, atomic_write_text
 from blocks.units import UnitError, display_factor
 
@@ -24,6 +27,24 @@ def _factor(unit: str) -> float:
         return display_factor(unit)
     except UnitError:
         return 1.0
+
+
+def _path(path) -> str | None:
+    """A path as report.json gives it: absolute (None stays None)."""
+    return None if path is None else str(Path(path).resolve())
+
+
+def _bic(value) -> str:
+    """A BIC as the report prints it: two decimals, the same for every fit (BIC is compared by differences, so
+    '151.19' beside '89.10', not beside '89.0987')."""
+    return "-" if value is None or not np.isfinite(value) else f"{value:.2f}"
+
+
+def _changed(cal) -> bool:
+    """Whether the final model differs from the declared one: an effect was accepted and not removed again by
+    the elimination check."""
+    removed = {t.key for t in cal.removals if t.removed}
+    return any(place.key not in removed for place, _ in final_effects(cal))
 
 
 def _g(value, digits: int = 4) -> str:
@@ -138,11 +159,11 @@ def latent_traces(cal) -> list[dict]:
 def build(cal) -> dict:
     exp, data = cal.exp, cal.data
     return {
-        "experiment": str(exp.file), "netlist": str(exp.netlist),
-        "data": [str(f) for f in exp.data_files] if len(exp.data_files) > 1 else str(exp.data),
+        "experiment": _path(exp.file), "netlist": _path(exp.netlist),
+        "data": [_path(f) for f in exp.data_files] if len(exp.data_files) > 1 else _path(exp.data),
         "kind": data.kind, "points": data.n, "groups": list(data.groups),
         "verdict": cal.verdict, "unexplained_discrepancy": cal.unexplained,
-        "calibrated_netlist": str(cal.calibrated) if cal.calibrated else None,
+        "calibrated_netlist": _path(cal.calibrated) if cal.calibrated else None,
         "imposed_exactly": [{"column": column, "parameter": param} for column, param in exp.exact_columns],
         "latent_traces": latent_traces(cal),
         "effects": [{"key": k, "title": t, "where": w, "parameter": p, "value": v, "se": s, "unit": u,
@@ -164,9 +185,9 @@ def build(cal) -> dict:
         "channels": channel_table(cal),
         "parameters": parameter_table(cal) if cal.final else [],
         "drift": drift_table(cal),
-        "rounds": [{"round": r.index, "netlist": str(r.stage.netlist), "screening_netlist": str(r.screening_file),
+        "rounds": [{"round": r.index, "netlist": _path(r.stage.netlist), "screening_netlist": _path(r.screening_file),
                     "screening_reproduces_fit_within_sigma": r.consistency,
-                    "augmented_netlist": str(r.augmented_file) if r.augmented_file else None,
+                    "augmented_netlist": _path(r.augmented_file) if r.augmented_file else None,
                     "notes": r.notes, "stopped": r.stopped, "screening": screening_rows(r), "refits": refit_rows(r),
                     "ambiguous": r.decision.ambiguous, "separation": r.decision.separation,
                     "choice_moves": r.decision.depends,
@@ -175,10 +196,10 @@ def build(cal) -> dict:
                    for r in cal.rounds],
         "exchanges": [{"out": ex.out_key, "round": ex.round, "in": ex.in_key, "dbic": ex.dbic, "value": ex.phi,
                        "se": ex.se, "z": ex.z, "plausible": ex.plausible, "made": ex.made, "reasons": ex.reasons,
-                       "netlist": str(ex.netlist) if ex.netlist else None} for ex in cal.exchanges],
+                       "netlist": _path(ex.netlist) if ex.netlist else None} for ex in cal.exchanges],
         "removals": [{"effect": t.key, "round": t.round, "check": t.check, "z": t.z, "dbic": t.dbic,
                       "refitted": t.refitted, "removed": t.removed, "reasons": t.reasons,
-                      "netlist": str(t.netlist) if t.netlist else None} for t in cal.removals],
+                      "netlist": _path(t.netlist) if t.netlist else None} for t in cal.removals],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
         "largest_residuals": largest(exp, data, cal.final) if cal.final else None,
         "se_scale": {tag: (float(np.sqrt(st.fit.inflation)) if st else None)
@@ -210,25 +231,8 @@ def markdown(cal, info: dict) -> str:
                  + ", ".join(f"{column} -> `{param}`" for column, param in exp.exact_columns))
     L.append("")
     L += ["## Verdict", ""] + [f"- {v}" if not v.startswith("  ") else f"  - {v.strip()}" for v in cal.verdict] + [""]
-    L += ["## Fit, before (declared model) and after (augmented model)", ""]
     ov = info["overall"]
-    for tag in ("before", "after"):
-        o = ov[tag]
-        if o:
-            L.append(f"- {tag}: chi^2 = {_g(o['chi2'])} on nu = {o['nu']} (chi^2/nu = {_g(o['chi2_nu'], 3)}, "
-                     f"p = {_g(o['p_value'], 2)}), BIC = {_g(o['bic'], 6)}, held-out error "
-                     f"{_g(o['heldout_error'], 3)}"
-                     + (f" (score {_g(o['heldout_score'], 4)}, with the uncertainty of "
-                        f"{o['heldout_knots_propagated']} knot times and values of the recorded command, summed "
-                        f"over the held-out blocks)"
-                        if o["heldout_knots_propagated"] else "")
-                     + f" ({o['heldout_scheme']}"
-                     + (f"; folds whose refit did not converge: {', '.join(o['heldout_unconverged_folds'])}"
-                        if o["heldout_unconverged_folds"] else "") + ")"
-                     + (f"; unsettled points: {o['unsettled_points']}" if data.kind == "steady" else "")
-                     + _lengthened(o['lengthened_runs'])
-                     + ("" if o["fit_converged"] else f"; the fit stopped at its limit of {o['fit_evaluations']} "
-                                                      f"evaluations before converging"))
+    L += fit_lines(cal, ov, data.kind == "steady")
     L += ["", "| channel | unit | noise | RMSE before | chi^2/nu before | RMSE after | chi^2/nu after | "
               "held-out RMSE before | held-out chi^2/n before | held-out RMSE after | held-out chi^2/n after |",
           "|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -401,6 +405,37 @@ def markdown(cal, info: dict) -> str:
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
           + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
     return "\n".join(L)
+
+
+def fit_lines(cal, ov: dict, steady: bool) -> list[str]:
+    """The heading and overall lines of the report's fit section: the declared model before and the augmented
+    one after; when no effect was added (or every one was removed again), the model is said to be unchanged,
+    and a final fit that is the declared fit itself is given once. The held-out error is said to be a mean
+    chi^2 per held-out reading where it is first shown."""
+    changed = _changed(cal)
+    L = ["## Fit, before (declared model) and after (augmented model)" if changed else
+         "## Fit of the declared model (unchanged: no effect was added)", ""]
+    tags = ("before", "after") if changed or cal.final is not cal.initial else ("before",)
+    said = "the mean chi^2 per held-out reading of the outputs; "  # at its first use only
+    for tag in tags:
+        o = ov[tag]
+        if o:
+            L.append(f"- {tag if len(tags) > 1 else 'fit'}: chi^2 = {_g(o['chi2'])} on nu = {o['nu']} (chi^2/nu = "
+                     f"{_g(o['chi2_nu'], 3)}, p = {_g(o['p_value'], 2)}), BIC = {_bic(o['bic'])}, held-out error "
+                     f"{_g(o['heldout_error'], 3)}"
+                     + (f" (score {_g(o['heldout_score'], 4)}, with the uncertainty of "
+                        f"{o['heldout_knots_propagated']} knot times and values of the recorded command, summed "
+                        f"over the held-out blocks)"
+                        if o["heldout_knots_propagated"] else "")
+                     + f" ({said}{o['heldout_scheme']}"
+                     + (f"; folds whose refit did not converge: {', '.join(o['heldout_unconverged_folds'])}"
+                        if o["heldout_unconverged_folds"] else "") + ")"
+                     + (f"; unsettled points: {o['unsettled_points']}" if steady else "")
+                     + _lengthened(o['lengthened_runs'])
+                     + ("" if o["fit_converged"] else f"; the fit stopped at its limit of {o['fit_evaluations']} "
+                                                      f"evaluations before converging"))
+            said = ""
+    return L
 
 
 def conventions(info: dict, kind: str) -> list[str]:

@@ -34,6 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.candidates import Context, registered
+from blocks.calibrate.candidates.sensor_offset import shown_text
 from blocks.calibrate.data import Dataset, load_data
 from blocks.calibrate.elimination import Removal, try_removals
 from blocks.calibrate.exchange import Exchange, file_name, free_of, try_exchanges
@@ -147,8 +148,7 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
         cal.seconds[f"round {k}"] = time.perf_counter() - t0
         acc = rnd.decision.accepted
         say(f"round {k}: screened {len(rnd.scores)} candidate places ({time.perf_counter() - t1:.1f} s): "
-            + (f"accepted {acc.score.place.key} = {acc.phi:.4g} +- {acc.se:.2g}" if acc
-               else f"stopped: {rnd.stopped}" if rnd.stopped else "nothing accepted"))
+            + outcome(exp, rnd))
         if acc is None:
             break
         place = acc.score.place
@@ -639,9 +639,18 @@ def restart_if_short(cal: Calibration, k: int, stage: Stage, rnd: Round, netlist
     return restarted, trace_round(k, restarted, cal.exp, cal.data, globals_, cal.out, with_heldout)
 
 
+def outcome(exp: Experiment, rnd: Round) -> str:
+    """What a round's trace ended in, for its progress line: the effect accepted, its value in the unit the
+    report shows it in (a sensor offset in its channel's unit, not in SI), or why none was."""
+    acc = rnd.decision.accepted
+    if acc is None:
+        return f"stopped: {rnd.stopped}" if rnd.stopped else "nothing accepted"
+    place = acc.score.place
+    return f"accepted {place.key} = {shown_text(exp, place.key, acc.phi, acc.se, place.unit)}"
+
+
 def augmented_header(exp: Experiment, cal: Calibration, netlist: Path) -> str:
-    found = "; ".join(f"{t} {w} ({p} = {v:.4g} +- {s:.2g}{'' if u in ('', '1', 'SI') else ' ' + u})"
-                      for _, t, w, p, v, s, u in cal.accepted)
+    found = "; ".join(f"{t} {w} ({p} = {shown_text(exp, key, v, s, u)})" for key, t, w, p, v, s, u in cal.accepted)
     return (f"Augmented by vphs calibrate from {netlist.name} for {Path(exp.file).name}.\n"
             f"Added: {found}.\nThe original netlist is unchanged.")
 
@@ -650,7 +659,8 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
                                out: Path) -> Path:
     """The experiment file for the augmented model: same data, the new netlist, the accepted parameters
     free beside the declared ones (every free parameter starting at its fitted value: a declared one in the
-    unit it is shown in, an effect's in SI), sensor corrections fixed at their fitted values (SI)."""
+    unit it is shown in, an effect's in SI), sensor corrections fixed at their fitted values (an offset in its
+    channel's unit, as the data are: a bare number there is refused as one read in SI; a gain bare)."""
     import os
 
     data = dict(exp.located.data)
@@ -680,7 +690,8 @@ def write_augmented_experiment(exp: Experiment, cal: Calibration, netlist: Path,
                             (("initial", value), ("lower", float(g.lower)), ("upper", float(g.upper)))}
         elif g.kind == "correction":
             what, ch = g.name.split(":", 1)
-            corrections.setdefault(ch, {})[what] = value
+            unit = next(c.unit for c in exp.channels if c.name == ch) if what == "offset" else "1"
+            corrections.setdefault(ch, {})[what] = written(value, unit)
     data["free"] = free
     if corrections:
         data["corrections"] = corrections

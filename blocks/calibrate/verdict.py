@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from blocks.calibrate.candidates.sensor_offset import shown as shown_offset
+from blocks.calibrate.candidates.sensor_offset import shown as shown_offset, shown_text
 from blocks.calibrate.run_start import initial_values, start_misfits
 
 if TYPE_CHECKING:
@@ -40,15 +40,12 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
     "found"; it stays in the augmented netlist, where its fitted value is what the final fit says."""
     lines = list(getattr(cal, "restarts", []))
     for key, title, where, param, value, se, unit in cal.accepted:
-        found = abs(value) > 3.0 * se
-        se = shown_offset(cal.exp, key, se, unit)[0]  # a sensor offset in its channel's unit, as the data are
-        value, unit = shown_offset(cal.exp, key, value, unit)
-        unit = f" {unit}" if unit not in ("1", "", "SI") else ""
-        if found:
-            lines.append(f"found: {title} {where}: {param} = {value:.4g} +- {se:.2g}{unit}")
+        said = shown_text(cal.exp, key, value, se, unit)  # a sensor offset in its channel's unit, as the data are
+        if abs(value) > 3.0 * se:
+            lines.append(f"found: {title} {where}: {param} = {said}")
         else:
-            lines.append(f"superseded: {title} {where}: {param} = {value:.4g} +- {se:.2g}{unit} in the final "
-                         f"fit, no longer over 3 SE from zero (a later effect explains what it did)")
+            lines.append(f"superseded: {title} {where}: {param} = {said} in the final fit, no longer over 3 SE "
+                         f"from zero (a later effect explains what it did)")
     for ex in cal.exchanges:
         if ex.made:
             lines.append(f"exchanged: {ex.out_key} (accepted in round {ex.round}) for {ex.in_key}, which fits better "
@@ -64,7 +61,7 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
     for rnd in cal.rounds:
         if rnd.stopped:
             lines.append(f"round {rnd.index}: the trace stopped: {rnd.stopped}")
-        lines += refused_as_implausible(rnd)
+        lines += refused_as_implausible(rnd, cal.exp)
         if rnd.decision.ambiguous:
             best = rnd.decision.accepted or next((r for r in rnd.decision.refits if r.passes_fit_tests), None)
             name = best.score.place.key if best else "?"
@@ -120,26 +117,28 @@ def verdict(cal: Calibration) -> tuple[list[str], bool]:
 
 
 
-def refused_as_implausible(rnd: Round) -> list[str]:
+def refused_as_implausible(rnd: Round, exp) -> list[str]:
     """A verdict line for each refit of the round that the data ask for (over 3 SE, BIC over 10 lower) and
     that fits better than what the round accepted, refused because its value lies outside the candidate's
     plausible range (the held-out test is not run on a refit already refused): a limit of the library, not
-    of the data, which the engineer must see."""
+    of the data, which the engineer must see. Values in the unit the report shows them in (``exp``'s
+    channels: a sensor offset in its channel's unit, :func:`~blocks.calibrate.candidates.sensor_offset.shown`)."""
     accepted = rnd.decision.accepted
     out = []
     for rf in rnd.decision.refits:
         if rf.only_implausible and (accepted is None or rf.dbic < accepted.dbic):
             place, lo_hi = rf.score.place, rf.score.place.plausible
-            unit = "" if place.unit in ("", "1", "SI") else f" {place.unit}"
+            factor, unit = shown_offset(exp, place.key, 1.0, place.unit)
+            unit = "" if unit in ("", "1", "SI") else f" {unit}"
             limit = next((b for b in (place.lower, place.upper) if np.isfinite(b)
                           and abs(rf.phi - b) <= 1e-6 * max(abs(b), abs(rf.se))), None)
-            out.append(f"round {rnd.index}: {place.key} = {rf.phi:.4g} +- {rf.se:.2g}{unit}"
-                       + (f" (at the limit of its search, {limit:g})" if limit is not None else "")
+            out.append(f"round {rnd.index}: {place.key} = {shown_text(exp, place.key, rf.phi, rf.se, place.unit)}"
+                       + (f" (at the limit of its search, {limit * factor:g}{unit})" if limit is not None else "")
                        + f" (dBIC {rf.dbic:.4g}"
                        + (f", better than the accepted {accepted.score.place.key}" if accepted else "")
-                       + f") passed the fit tests and was refused as outside its plausible range [{lo_hi[0]:.3g}, "
-                       f"{lo_hi[1]:.3g}]{unit} (its held-out error was then not tested): if such a value is possible "
-                       f"in this machine, the library's range is what refused it")
+                       + f") passed the fit tests and was refused as outside its plausible range "
+                       f"[{lo_hi[0] * factor:.3g}, {lo_hi[1] * factor:.3g}]{unit} (its held-out error was then not "
+                       f"tested): if such a value is possible in this machine, the library's range is what refused it")
     return out
 
 

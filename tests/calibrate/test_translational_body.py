@@ -90,30 +90,33 @@ def _refit(key, phi, se, dbic, plausible):
                  se, dbic, dbic, plausible)
 
 
+NO_CHANNELS = SimpleNamespace(channels=[])  # an experiment whose values are shown as they are (no sensor offset)
+
+
 def test_a_fit_refused_only_as_implausible_is_said_in_the_verdict():
     implausible = _refit("viscous_friction@rod", 2964.0, 54.0, -3352.0, plausible=False)
     alternative = _refit("line_loss_laminar@cyl.A", 7.5e8, 1.6e7, -2898.0, plausible=True)
     assert implausible.only_implausible and not alternative.only_implausible
     rnd = SimpleNamespace(index=1, decision=SimpleNamespace(refits=[implausible, alternative], accepted=alternative))
-    (line,) = refused_as_implausible(rnd)
+    (line,) = refused_as_implausible(rnd, NO_CHANNELS)
     assert line == ("round 1: viscous_friction@rod = 2964 +- 54 N*s/m (dBIC -3352, better than the accepted "
                     "line_loss_laminar@cyl.A) passed the fit tests and was refused as outside its plausible range "
                     "[0, 1e+03] N*s/m (its held-out error was then not tested): if such a value is possible in this "
                     "machine, the library's range is what refused it")
     worse = _refit("viscous_friction@rod", 2964.0, 54.0, -2000.0, plausible=False)  # the accepted one fits better
     rnd = SimpleNamespace(index=1, decision=SimpleNamespace(refits=[worse, alternative], accepted=alternative))
-    assert refused_as_implausible(rnd) == []
+    assert refused_as_implausible(rnd, NO_CHANNELS) == []
     rnd = SimpleNamespace(index=2, decision=SimpleNamespace(refits=[worse], accepted=None))
-    assert refused_as_implausible(rnd)[0].startswith("round 2: viscous_friction@rod = 2964 +- 54 N*s/m (dBIC -2000) "
+    assert refused_as_implausible(rnd, NO_CHANNELS)[0].startswith("round 2: viscous_friction@rod = 2964 +- 54 N*s/m (dBIC -2000) "
                                                      "passed the fit tests")
     at_limit = _refit("viscous_friction@rod", 1e9, 1e7, -2000.0, plausible=False)
     rnd = SimpleNamespace(index=2, decision=SimpleNamespace(refits=[at_limit], accepted=None))
-    assert refused_as_implausible(rnd)[0].startswith("round 2: viscous_friction@rod = 1e+09 +- 1e+07 N*s/m (at the "
-                                                     "limit of its search, 1e+09) (dBIC -2000)")
+    assert refused_as_implausible(rnd, NO_CHANNELS)[0].startswith("round 2: viscous_friction@rod = 1e+09 +- 1e+07 N*s/m (at the "
+                                                     "limit of its search, 1e+09 N*s/m) (dBIC -2000)")
     weak = _refit("viscous_friction@rod", 2964.0, 1500.0, -2000.0, plausible=False)  # under 3 SE: not asked for
     assert not weak.only_implausible
     rnd = SimpleNamespace(index=2, decision=SimpleNamespace(refits=[weak], accepted=None))
-    assert refused_as_implausible(rnd) == []
+    assert refused_as_implausible(rnd, NO_CHANNELS) == []
 
 
 @pytest.mark.parametrize("rot, speeds, bound", [(True, {}, 1e3), (True, {"w": 50.0}, 200.0),

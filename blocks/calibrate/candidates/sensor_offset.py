@@ -36,3 +36,11 @@ def shown(exp, key: str, value: float, unit: str) -> tuple[float, str]:
     if channel is None or channel.unit in ("", "1"):
         return value, unit
     return value / parse_unit(channel.unit).factor, channel.unit
+
+
+def shown_text(exp, key: str, value: float, se: float, unit: str) -> str:
+    """'0.5342 +- 0.13 bar': a fitted value of the effect ``key`` and its standard error (SI) as people read them
+    (the console's progress, the verdict, a written netlist's header), in the unit the report shows it in
+    (:func:`shown`: a sensor offset in its channel's unit, not 5.342e+04 Pa); no unit for a plain number."""
+    factor, unit = shown(exp, key, 1.0, unit)
+    return f"{value * factor:.4g} +- {se * factor:.2g}" + ("" if unit in ("", "1", "SI") else f" {unit}")
