@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.candidates import registered
+from blocks.calibrate.candidates.sensor_offset import range_text
 from blocks.calibrate.experiment import Free
 from blocks.calibrate.patch import NetlistDoc, written
 from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN, z_score
@@ -111,7 +112,7 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
             if not ex.z > Z_MIN:
                 ex.reasons.append(f"|phi| = {ex.z:.2g} SE (needs > {Z_MIN:g})")
             if not ex.plausible:
-                ex.reasons.append(f"outside the plausible range [{lo:.3g}, {hi:.3g}]")
+                ex.reasons.append(f"outside the plausible range {range_text(cal.exp, alt.score.place)}")
             tried.append(ex)
     qualified = [ex for ex in tried if not ex.reasons]
     if qualified:

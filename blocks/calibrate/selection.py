@@ -36,6 +36,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from blocks.calibrate.candidates.sensor_offset import range_text
 from blocks.calibrate.fit import FitResult, fit, points_of
 from blocks.calibrate.heldout import HeldOut, heldout
 from blocks.calibrate.model import FAILED_RESIDUAL, Model
@@ -232,8 +233,7 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
         if not rf.z > Z_MIN:
             rf.reasons.append(f"|phi| = {rf.z:.2g} SE (needs > {Z_MIN:g})")
         if not rf.plausible:
-            rf.reasons.append(f"outside the plausible range [{rf.score.place.plausible[0]:.3g}, "
-                              f"{rf.score.place.plausible[1]:.3g}] {rf.score.place.unit}")
+            rf.reasons.append(f"outside the plausible range {range_text(base_model.exp, rf.score.place)}")
         if not rf.dbic < DBIC_MAX:
             rf.reasons.append(f"dBIC = {rf.dbic:.3g} (needs < {DBIC_MAX:g})")
         if not rf.free:

@@ -230,3 +230,17 @@ def test_a_model_whose_effects_were_all_removed_again_is_unchanged_too():
     assert "BIC = 89.10," in lines[2] and "BIC = 151.19," in lines[3]
     cal.removals[0].removed = False
     assert fit_lines(cal, {"before": fit, "after": fit}, steady=True)[0].endswith("after (augmented model)")
+
+
+def test_a_plausible_range_refused_is_said_in_the_channels_unit():
+    # the refit table's and the exchange's "why not" gave an offset's range in Pa ([-1.2e+05, 1.2e+05] Pa)
+    from blocks.calibrate.candidates.base import Place
+    from blocks.calibrate.candidates.sensor_offset import range_text
+
+    exp = SimpleNamespace(channels=[SimpleNamespace(name="p1", unit="bar")])
+    offset = Place("sensor_offset", "sensor_offset@p1", "channel p1", "offset:p1", "Pa", 0.0, -1e9, 1e9, 1.0,
+                   (-1.2e5, 1.2e5), kind="channel")
+    assert range_text(exp, offset) == "[-1.2, 1.2] bar"
+    loss = Place("line_loss_laminar", "line_loss_laminar@a", "net a", "kl", "Pa*s/m^3", 0.0, 0.0, 1e20, 1.0,
+                 (0.0, 1e12))
+    assert range_text(exp, loss) == "[0, 1e+12] Pa*s/m^3"

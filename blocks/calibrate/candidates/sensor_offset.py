@@ -38,6 +38,13 @@ def shown(exp, key: str, value: float, unit: str) -> tuple[float, str]:
     return value / parse_unit(channel.unit).factor, channel.unit
 
 
+def range_text(exp, place) -> str:
+    """'[-1.2, 1.2] bar': a candidate's plausible range as people read it, in the unit :func:`shown` gives."""
+    factor, unit = shown(exp, place.key, 1.0, place.unit)
+    lo, hi = (bound * factor for bound in place.plausible)
+    return f"[{lo:.3g}, {hi:.3g}]" + ("" if unit in ("", "1", "SI") else f" {unit}")
+
+
 def shown_text(exp, key: str, value: float, se: float, unit: str) -> str:
     """'0.5342 +- 0.13 bar': a fitted value of the effect ``key`` and its standard error (SI) as people read them
     (the console's progress, the verdict, a written netlist's header), in the unit the report shows it in
