@@ -611,7 +611,7 @@ def table(results: list[dict]) -> str:
              + " (The exchange check's margin, a swap must lower BIC by over 1, came after a first run in which "
              "`time_two` swapped the delay on the command for the same delay on the spool, at dBIC -0.0, in 4 "
              "seeds; those 4 seeds were rerun with it.) "
-             + " ".join(p for p in (_scaled_fit(), _restarts(), _stuck_refits(), _landed_steps()) if p),
+             + " ".join(p for p in (_scaled_fit(), _restarts(), _stuck_refits(), _reruns()) if p),
              ""] + case_rows(results) + [""] + rec_misses(results)
     lines += ["", "Per-seed records: bench/records/results.jsonl. Rerun: "
                   "`python bench/calibrate_mc.py --seeds 20 --workers 2`; table only: `--table`.", ""]
@@ -1125,10 +1125,28 @@ def _stuck_refits() -> str:
                f"{_span(before_dbic)} before and {_span(after_dbic)} now" if after_dbic else "") + ".")
 
 
-def _landed_steps() -> str:
-    """Session 21's solver change against the records made before it: the seeds rerun with it
-    (bench/records/archive/s21_breakpoints.jsonl holds each seed's record and its rerun, the compared keys)."""
-    rows = _archived("s21_breakpoints.jsonl")
+RERUNS = (  # (archive, what changed): each a paragraph of the table's versions, from its seeds' reruns
+    ("s21_breakpoints.jsonl",
+     "Session 21: the solver lands a step on each time an input jumps or kinks (a step's time, a profile's "
+     "points where its slope changes; blocks/solve/rosenbrock.py). Before, a step could be longer than a "
+     "pulse of the input and pass over it unseen. The records above were made before it."),
+    ("s22_proportional.jsonl",
+     "Session 22: the screening calls a candidate whose change of the outputs is not proportional to its "
+     "size (half the step, not half the change: a jump, or the solver's noise) 'no effect' instead of "
+     "scoring it (blocks/calibrate/screening.py; a user's steady rig had an extra volume, which moves no "
+     "equilibrium, scored T = 14). Compared with the records above, or with session 21's reruns where "
+     "there are some."),
+)
+
+
+def _reruns() -> str:
+    return " ".join(p for p in (_rerun_paragraph(name, intro) for name, intro in RERUNS) if p)
+
+
+def _rerun_paragraph(archive: str, intro: str) -> str:
+    """A change against the records made before it: the seeds rerun with it (bench/records/archive/``archive``
+    holds each seed's record and its rerun, the compared keys)."""
+    rows = _archived(archive)
     if not rows:
         return ""
     names = {}
@@ -1147,11 +1165,8 @@ def _landed_steps() -> str:
     changes = "; ".join(f"{_row_name(RECORDS / r['file'], r['case'])} {r['seed']}: "
                         f"{', '.join(sorted(r['before']['accepted']))} -> {', '.join(sorted(r['after']['accepted']))}"
                         for r in moved)
-    return ("Session 21: the solver lands a step on each time an input jumps or kinks (a step's time, a "
-            "profile's points where its slope changes; blocks/solve/rosenbrock.py). Before, a step could be "
-            "longer than a pulse of the input and pass over it unseen. The records above were made before it. "
-            "Rerun with it (" + "; ".join(f"{name} {', '.join(seeds)}" for name, seeds in names.items())
-            + "; bench/records/archive/s21_breakpoints.jsonl holds each seed's record and its rerun): the "
+    return (intro + " Rerun with it (" + "; ".join(f"{name} {', '.join(seeds)}" for name, seeds in names.items())
+            + f"; bench/records/archive/{archive} holds each seed's record and its rerun): the "
             "accepted effects changed in " + _count(len(moved), "seed") + (f" ({changes})" if moved else "")
             + (" (a delay on the command u and one on the spool's output xs, on either side of the spool's "
                "linear filter, give the same response)"

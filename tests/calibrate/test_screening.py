@@ -103,3 +103,35 @@ def test_a_candidate_without_effect_is_reported_as_such():
     x, base = base_fit(model, 1)
     (score,), _ = screen(model, x, base, [place("none")], {"none": 1})
     assert score.status == "no effect"
+
+
+class JumpModel(LinearModel):
+    """The linear model with a candidate (column 2) whose effect is a jump: 0 below a threshold of its value,
+    a fixed change of the residuals above it (a steady point whose solution switches, not a physical effect)."""
+
+    def __init__(self, A, y, threshold, jump):
+        super().__init__(A, y)
+        self.threshold, self.jump = threshold, jump
+
+    def residuals(self, x, points=None):
+        r = self.A[:, :2] @ x[:2] - self.y
+        return r + (self.jump if x[2] > self.threshold else 0.0)
+
+
+def test_a_candidate_whose_change_is_a_jump_is_no_effect_however_it_would_score():
+    # an extra volume on a steady rig scored T = 14 this way (user review, session 22)
+    rng = np.random.default_rng(5)
+    n = 100
+    t = np.linspace(0, 1, n)
+    A = np.column_stack([np.ones(n), t, np.zeros(n)])
+    y = 1.0 + 2.0 * t + rng.normal(size=n)
+    x, base = base_fit(LinearModel(A, y), 2)
+    r = base.r
+    jump = -0.5 * (r - r.mean())  # a change pointing along the residuals: the score would be large
+    model = JumpModel(A, y, threshold=0.7, jump=jump)
+    (score,), _ = screen(model, x, base, [place("jump")], {"jump": 2})
+    assert score.status == "no effect" and "not proportional" in score.note
+    # the same change, proportional to the candidate's value, is scored (as its closed form says)
+    linear = LinearModel(np.column_stack([A[:, :2], jump]), y)
+    (scored,), _ = screen(linear, x, base, [place("linear")], {"linear": 2})
+    assert scored.status == "screened" and scored.T > 10
