@@ -1135,7 +1135,9 @@ RERUNS = (  # (archive, what changed): each a paragraph of the table's versions,
      "size (half the step, not half the change: a jump, or the solver's noise) 'no effect' instead of "
      "scoring it (blocks/calibrate/screening.py; a user's steady rig had an extra volume, which moves no "
      "equilibrium, scored T = 14). Compared with the records above, or with session 21's reruns where "
-     "there are some."),
+     "there are some: the recorded-command seeds but `time_coulomb` 1 were not rerun in session 21, so their "
+     "differences carry its solver change too (a breakpoint at each point of the recording's profile; the "
+     "accepted effects are the same, so the final fits differ by the solver alone)."),
 )
 
 
