@@ -16,12 +16,16 @@ taken what they can. A candidate whose parameter is one-sided (a loss, a leak, a
 is >= 0) scores 0 when the data pull it below zero. "not identifiable": the free parameters absorb over
 99.9 % of its sensitivity (||s_perp||^2 < 1e-3 ||s||^2; the absorbing parameters are named); "no effect":
 even the largest step moved no residual by 1e-3 sigma, or (checked where the candidate would score, T > 1)
-the change is not proportional to the step: with d(h) the change of the residuals at the step h,
+the change is not proportional to the step, at the step h or at 10 h: with d(h) the change of the
+residuals at the step h,
 
     || d(h) - 2 d(h/2) || > 0.5 || d(h) ||
 
 A first-order effect, which the score assumes, gives a small left side (a parameter that enters linearly:
-0; a quadratic one, d = b h^2, exactly 0.5). A jump gives about || d(h) || or more: an extra volume on a
+0). The larger step is tried when the first fails, since a real effect fails there too where its first step
+is too small against the solver's noise, or half of it falls where the candidate is not yet in force (a
+transport delay below its shortest, T_min = 1e-5 s, passes its input through); there it is scored with the
+larger step's change. A jump fails at both, with a left side of about || d(h) || or more: an extra volume on a
 steady rig, which moves no equilibrium, moved residuals by 321 sigma at one step and 0 at half of it (a
 point whose equilibrium check then fell back to its settling run, read before the larger volume settled),
 and scored T = 14; refitted to 0.61 l at 40 standard errors, it lowered chi^2 by 1e-5. So does the
@@ -71,43 +75,75 @@ def screen(smodel: Model, x: np.ndarray, base: FitResult, places: list[Place], c
         if moved < 1e-3:
             scores.append(Score(place, "no effect", step=h, note="no residual moved by 1e-3 sigma"))
             continue
-        proj = Q @ (Q.T @ s) if Q.size else np.zeros_like(s)
-        s_perp = s - proj
-        ss, sp = float(s @ s), float(s_perp @ s_perp)
-        absorbed = 1.0 - sp / ss if ss > 0 else 1.0
-        by = _absorbers(coef_basis, names, s, declared)
-        if sp < 1e-3 * ss:
-            scores.append(Score(place, "not identifiable", absorbed=absorbed, absorbed_by=by, step=h,
-                                note="absorbed by " + ", ".join(by)))
-            continue
-        g = float(s_perp @ r0)
-        T = g * g / sp
-        if T > PROPORTIONAL_FROM and not _proportional(smodel, x, j, place, points, rows, r0, s * h, h):
-            scores.append(Score(place, "no effect", step=h, note="the outputs' change is not proportional to its "
-                                "size (a jump, or the solver's noise): no first-order effect to score"))
-            continue
-        phi = place.zero - g / sp
-        note = ""
-        if place.one_sided:
-            sign = 1.0 if place.upper > place.zero else -1.0
-            if (phi - place.zero) * sign < 0:
-                T, note = 0.0, "the data pull it to the wrong sign"
-        p = float(sps.chi2.sf(T, 1)) * (0.5 if place.one_sided and T > 0 else 1.0)
-        scores.append(Score(place, "screened", T, p, phi, absorbed, by, h, s_perp / np.sqrt(sp), note))
+        projection = (Q, coef_basis, names, declared)
+        score = _scored(place, s, h, r0, projection)
+        if score.status == "screened" and score.T > PROPORTIONAL_FROM:
+            first_order = _first_order(smodel, x, j, place, points, rows, r0, s * h, h)
+            if first_order is None:
+                score = Score(place, "no effect", step=h, note="the outputs' change is not proportional to its "
+                              "size, at its step or 10 times it (a jump, or the solver's noise): no first-order "
+                              "effect to score")
+            elif first_order[1] != h:
+                score = _scored(place, *first_order, r0, projection)
+        scores.append(score)
     return scores, consistency
+
+
+def _scored(place: Place, s: np.ndarray, h: float, r0: np.ndarray, projection) -> Score:
+    """The score test of a candidate of sensitivity ``s`` (at the step ``h``) against the residuals ``r0``;
+    ``projection``: the basis of the free parameters' columns and what names them (:func:`screen`)."""
+    Q, coef_basis, names, declared = projection
+    proj = Q @ (Q.T @ s) if Q.size else np.zeros_like(s)
+    s_perp = s - proj
+    ss, sp = float(s @ s), float(s_perp @ s_perp)
+    absorbed = 1.0 - sp / ss if ss > 0 else 1.0
+    by = _absorbers(coef_basis, names, s, declared)
+    if sp < 1e-3 * ss:
+        return Score(place, "not identifiable", absorbed=absorbed, absorbed_by=by, step=h,
+                     note="absorbed by " + ", ".join(by))
+    g = float(s_perp @ r0)
+    T = g * g / sp
+    phi = place.zero - g / sp
+    note = ""
+    if place.one_sided:
+        sign = 1.0 if place.upper > place.zero else -1.0
+        if (phi - place.zero) * sign < 0:
+            T, note = 0.0, "the data pull it to the wrong sign"
+    p = float(sps.chi2.sf(T, 1)) * (0.5 if place.one_sided and T > 0 else 1.0)
+    return Score(place, "screened", T, p, phi, absorbed, by, h, s_perp / np.sqrt(sp), note)
 
 
 PROPORTIONAL_FROM = 1.0
 """The score T above which a candidate's change is checked for proportionality to its step (below it, the
-candidate ranks nowhere and the check's simulation is spared)."""
+candidate ranks nowhere and the check's simulations are spared)."""
+RETRY_FACTOR = 10.0
+"""The larger step a change not proportional at its first step is tried again at (module docstring)."""
+
+
+def _first_order(model, x, j, place: Place, points, rows, r0, d: np.ndarray, h: float):
+    """(sensitivity, step) at which the change of the residuals is first order: ``h`` itself (``d`` the change
+    there), else RETRY_FACTOR * h (within the candidate's room); None if it is at neither (module docstring)."""
+    if _proportional(model, x, j, place, points, rows, r0, d, h):
+        return d / h, h
+    room = place.upper - place.zero
+    larger = min(RETRY_FACTOR * h, 0.5 * room) if np.isfinite(room) and room > 0 else RETRY_FACTOR * h
+    if not larger > h:
+        return None
+    wider = _change(model, x, j, place, points, rows, r0, larger)
+    return (wider / larger, larger) if _proportional(model, x, j, place, points, rows, r0, wider, larger) else None
+
+
+def _change(model, x, j, place: Place, points, rows, r0, h: float) -> np.ndarray:
+    """The change of the used rows' residuals with the candidate at its zero + ``h``."""
+    xp = x.copy()
+    xp[j] = place.zero + h
+    return model.residuals(xp, points)[rows] - r0
 
 
 def _proportional(model, x, j, place: Place, points, rows, r0, d: np.ndarray, h: float) -> bool:
     """Whether the change ``d`` of the residuals at the step ``h`` is first order: half the step changes them
     by about half as much (module docstring)."""
-    xp = x.copy()
-    xp[j] = place.zero + 0.5 * h
-    half = model.residuals(xp, points)[rows] - r0
+    half = _change(model, x, j, place, points, rows, r0, 0.5 * h)
     return float(np.linalg.norm(d - 2.0 * half)) <= 0.5 * float(np.linalg.norm(d))
 
 
@@ -116,12 +152,11 @@ def _sensitivity(model, x, j, place: Place, points, rows, r0):
     room = place.upper - place.zero
     if np.isfinite(room) and room > 0:
         h = min(h, 0.5 * room)
-    moved = 0.0
+    moved, used = 0.0, h
     d = np.zeros_like(r0)
     for _ in range(8):
-        xp = x.copy()
-        xp[j] = place.zero + h
-        d = model.residuals(xp, points)[rows] - r0
+        used = h  # the step d is the change at (the next one may differ if the tries run out)
+        d = _change(model, x, j, place, points, rows, r0, used)
         moved = float(np.max(np.abs(d))) if d.size else 0.0
         if moved < 1e-2:
             if np.isfinite(room) and h * 30 > 0.5 * room:
@@ -131,7 +166,7 @@ def _sensitivity(model, x, j, place: Place, points, rows, r0):
             h /= 10.0
         else:
             break
-    return d / h, h, moved
+    return d / used, used, moved
 
 
 def _basis(base: FitResult, model: Model):

@@ -135,3 +135,36 @@ def test_a_candidate_whose_change_is_a_jump_is_no_effect_however_it_would_score(
     linear = LinearModel(np.column_stack([A[:, :2], jump]), y)
     (scored,), _ = screen(linear, x, base, [place("linear")], {"linear": 2})
     assert scored.status == "screened" and scored.T > 10
+
+
+class ThresholdModel(LinearModel):
+    """The linear model whose candidate (column 2) acts only from a smallest value on, as a transport delay does
+    (below T_min it passes its input through): below ``threshold`` it changes nothing."""
+
+    def __init__(self, A, y, threshold):
+        super().__init__(A, y)
+        self.threshold = threshold
+
+    def residuals(self, x, points=None):
+        x = np.array(x, dtype=float)
+        if x[2] < self.threshold:
+            x[2] = 0.0
+        return self.A @ x - self.y
+
+
+def test_a_candidate_in_force_only_from_a_smallest_value_is_scored_at_the_larger_step():
+    # review, session 22: a strong delay's step ended at 1e-5 s, half of it passed the input through, and the
+    # delay was called 'no effect'; at 10 times the step it is first order, and scored as its closed form says
+    rng = np.random.default_rng(7)
+    n = 200
+    t = np.linspace(0, 1, n)
+    effect = 2.5 * np.sin(5 * t)
+    A = np.column_stack([np.ones(n), t, effect])
+    y = 1.0 + 2.0 * t + 0.3 * effect + rng.normal(size=n)
+    x, base = base_fit(LinearModel(A, y), 2)
+    first = Place("test", "delay", "delay", "delay", "s", 0.0, 0.0, np.inf, 0.4, (0.0, 1e9), one_sided=True)
+    (score,), _ = screen(ThresholdModel(A, y, threshold=0.3), x, base, [first], {"delay": 2})
+    assert score.status == "screened" and score.step == pytest.approx(4.0)
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    assert score.T == pytest.approx(base.chi2 - float(np.sum((A @ coef - y) ** 2)), rel=1e-9)
+    assert score.phi == pytest.approx(coef[2], rel=1e-9)
