@@ -302,8 +302,9 @@ def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] |
 def _check_values_with(overrides: dict[str, float], written: dict[str, str], circuit) -> None:
     """The blocks' checks of their values together (p_open above p_set, a start inside the stroke) with the
     --set values. One that fails only with them is the command's error, said with the --set values that
-    make it fail, each alone, or all of them if none alone does: the netlist's place alone would point at a
-    line that is right as written."""
+    take part in it: each whose removal makes that failure go (p_set and p_open both set, crossed), not one
+    that fails elsewhere too or not at all; all of them if no single one does. The netlist's place alone
+    would point at a line that is right as written."""
     from blocks.errors import NetlistError
 
     def failure(values: dict[str, float]) -> NetlistError | None:
@@ -316,7 +317,11 @@ def _check_values_with(overrides: dict[str, float], written: dict[str, str], cir
     with_all = failure(overrides) if overrides else None
     if with_all is None or failure({}) is not None:
         return  # fine, or the netlist's own error: said where it is, when the command evaluates it
-    culprits = [name for name in overrides if failure({name: overrides[name]})] or list(overrides)
+    def takes_part(name: str) -> bool:
+        without = failure({k: v for k, v in overrides.items() if k != name})
+        return without is None or without.message != with_all.message
+
+    culprits = [name for name in overrides if takes_part(name)] or list(overrides)
     sets = ", ".join(f"--set '{name}={written[name]}'" for name in culprits)
     where = str(NetlistError(with_all.file, "", with_all.line, with_all.column)).removesuffix(": ")
     raise ArgumentError(f"vphs: {sets}: {with_all.message} (checked at {where}, right as written there)")
@@ -426,6 +431,9 @@ def cmd_run(args) -> int:
     if args.t_end is not None:
         settings = settings.with_(t_end=_seconds_option("--t-end", args.t_end))
     if args.fixed_step is not None:
+        if settings.solver != "fixed":
+            raise ArgumentError(f"vphs: --fixed-step '{args.fixed_step}': the step of the fixed solver, and this run's "
+                                f"solver is {settings.solver} (add --solver fixed)")
         settings = settings.with_(fixed_step=_seconds_option("--fixed-step", args.fixed_step))
     problem = settings.problem()
     if problem:

@@ -126,14 +126,14 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
 SOLVER_TEXT = {
     "rodas": "Default. A compiled, L-stable Rosenbrock method (hydraulic circuits are stiff) with variable "
              "step and error control, finite-difference Jacobian grouped by the netlist's sparsity.",
-"fixed": "The same Rosenbrock method at the constant step `fixed_step`, without error control; a run "
+    "fixed": "The same Rosenbrock method at the constant step `fixed_step`, without error control; a run "
              "whose pressure leaves hydraulics (over 10000 bar: a step too long for the circuit) is an error "
              "(with the other solvers a warning). A step too long rarely fails: it gives other numbers. So the "
              "run is repeated at twice the step, and a warning names the output that moves most, if one "
              "moves by over 1 % of its range (`fixed_step_check`). The run at the step itself is then "
-             "usually off by much less (about 1/15 of it once the step is short enough for the method's "
-             "order 4 to show), but a step past a fast mode is not: it may be too long, and rodas, which "
-             "controls its error, says. Like rodas, a fixed step ends on each time an input jumps or kinks "
+             "usually off by much less once the step is short enough for the method's order to show, but "
+             "a step past a fast mode is not: it may be too long, and rodas, which controls its error, "
+             "says. Like rodas, a fixed step ends on each time an input jumps or kinks "
              "(the grid goes on after it).",
     "lsoda": "scipy's `solve_ivp(method='LSODA')` on the same compiled right-hand side (switches between "
              "stiff and non-stiff methods).",

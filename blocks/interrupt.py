@@ -120,8 +120,8 @@ def deferred():
     finally:
         for number, handler in held.items():
             signal.signal(number, handler)
-    if pending:
-        held[pending[0]](pending[0], None)  # delivered now: raises KeyboardInterrupt (or Terminated)
+        if pending:  # delivered now, even if the step raised: KeyboardInterrupt (or Terminated) wins
+            held[pending[0]](pending[0], None)
 
 
 def check() -> None:

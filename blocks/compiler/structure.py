@@ -131,9 +131,12 @@ def _find_prescribed(st: Structure) -> None:
                 other = st.prescribed[net][0]
                 raise comp.source.error(comp.path, f"net '{net}' is prescribed by two sources: {other} and {name}")
             st.prescribed[net] = (name, port)
-            # not its bulk modulus: a subsystem's fluid gives every net of it one, a held one too
-            for key, what in (("initial", "an initial value"), ("volume", "a volume")):
-                given = st.circuit.parameters.entries.get(f"{net}.{key}")
+            # not its bulk modulus: a subsystem's fluid gives every net of it one, a held one too; nor a volume
+            # written in another file: a reusable part's line volume on a port its user holds at a pressure
+            volume = st.circuit.parameters.entries.get(f"{net}.volume")
+            for what, given in (("an initial value", st.circuit.parameters.entries.get(f"{net}.initial")),
+                               ("a volume", volume if volume is not None and volume.source.file == comp.source.file
+                                else None)):
                 if given is not None:
                     raise given.error(f"net '{net}' is held by the source {name}: {what} would be ignored")
 

@@ -513,7 +513,8 @@ def make_array_entry(name: str, raw: list, unit: str, scope: dict[str, str], sou
             raise source.error(path + (i,), f"{name}[{i}] = '{item}' is {quantity_name(dims)}, but {name}[{first}] "
                                             f"= '{first_item}' is {quantity_name(first_dims)}: one list holds one "
                                             f"quantity")
-    scaled = [(i, item, dims) for i, item, dims in written if parse_unit(split_quantity(str(item))[1]).factor != 1.0]
+    scaled = [(i, item, dims) for i, item, dims in written  # (a number written as one is in SI: .nan too)
+              if isinstance(item, str) and parse_unit(split_quantity(item)[1]).factor != 1.0]
     if scaled and bare:
         (i, item), (first, first_item, dims) = bare[0], scaled[0]
         raise source.error(path + (i,), f"{name}[{i}] = {item} is a plain number beside {name}[{first}] = "

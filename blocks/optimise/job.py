@@ -432,6 +432,13 @@ def _dimension(output):
     return None
 
 
+def _origin(exc: NetlistError) -> str:
+    """' (rig.yaml:10:32)': where in the netlist a check of its values failed ('' if it names no file)."""
+    if not exc.file:
+        return ""
+    return f" ({exc.file}:{exc.line}:{exc.column})" if exc.line is not None else f" ({exc.file})"
+
+
 class _Resolver:
     """Names, units and bounds of a validated job, checked against its netlist."""
 
@@ -472,7 +479,7 @@ class _Resolver:
                 self.circuit.vectors({**fixed, **values})
             except NetlistError as exc:
                 where = f"load_cases.{case}" if m.load_cases else "set"
-                origin = f" ({exc.file}:{exc.line}:{exc.column})" if exc.line is not None else f" ({exc.file})"
+                origin = _origin(exc)
                 raise self.error(("load_cases", case) if m.load_cases else ("set",),
                                  f"{where}: with these values {exc.message}{origin}") from None
         start = self.circuit.vectors(fixed).values
@@ -504,7 +511,7 @@ class _Resolver:
                 try:
                     self.circuit.vectors({**fixed, p.name: value})
                 except NetlistError as exc:
-                    origin = f" ({exc.file}:{exc.line}:{exc.column})" if exc.line is not None else f" ({exc.file})"
+                    origin = _origin(exc)
                     lines.append(f"{self.located.file}: parameters.{p.name}.{edge} = {shown(value, units[p.name])}"
                                  f" (the rest at the netlist's values) is refused: {exc.message}{origin}; designs "
                                  f"there fail and cost the penalty")

@@ -13,9 +13,10 @@ share of that output's range in the run at h, is what is said:
 
     d_k = max_t |y_k(t; 2h) - y_k(t; h)| / range_k,    range_k = max_t y_k(t; h) - min_t y_k(t; h)
 
-Once h is small enough for the method's order p = 4 to show, the run at h is off by about d/(2^p - 1) =
-d/15 (Richardson); a step past a fast mode, or across a kink no block declares, is not in that regime. The
-warning therefore gives d itself, which is measured, not a corrected error.
+Once h is small enough for the method's order to show, the run at h is off by much less than d (Richardson:
+d/(2^p - 1) for an order p, 4 at the steps' ends, 3 for the dense output between them); a step past a fast
+mode, or across a kink no block declares, is not in that regime. The warning therefore gives d itself,
+which is measured, not a corrected error.
 It costs half a run (half as many steps). An output that does not move (range 0) is compared with its own
 magnitude, or not at all when it is 0 throughout.
 """

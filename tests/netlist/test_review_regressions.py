@@ -287,6 +287,12 @@ def test_a_volume_on_a_net_a_tank_holds_is_refused():
     assert_located("tank_volume", "volume: \"1 l\"", ["net 'T'", "tank", "a volume would be ignored"])
 
 
+def test_a_parts_own_volume_on_a_port_its_user_holds_is_its_own_affair():
+    """A reusable part's line volume on a port that the netlist using it joins to a tank: not the user's
+    writing, so not refused (review of session 22's check above)."""
+    assert values("held_part_outer")["sub.X.volume"] == pytest.approx(1e-3)
+
+
 # ---- 10. signal units -------------------------------------------------------------------------------------
 def test_signal_net_joining_different_units_is_refused():
     """Old: a pressure in Pa went straight into a torque input in N*m (100 bar = 1e7 N*m)."""
@@ -502,3 +508,13 @@ def test_run_arguments_a_fuzzer_found_blamed_elsewhere_or_ignored(tmp_path, caps
     captured = capsys.readouterr()
     assert code == 2 and captured.err.startswith(f"vphs: {message}")
     assert captured.err.count("\n") == 1 and captured.out == ""
+
+
+def test_a_non_finite_number_in_a_list_is_said_not_finite(tmp_path):
+    """Found by the fuzzer (session 22): `.nan` in a profile's times was an internal error (UnitError: 'nan' is
+    not '<number> <unit>'), from the check that a list's numbers and quantities agree."""
+    text = (EXAMPLES / "drive_line.yaml").read_text()
+    assert "times: [0, 0.5, 2.5, 3.0]" in text
+    bad = tmp_path / "nan.yaml"
+    bad.write_text(text.replace("times: [0, 0.5, 2.5, 3.0]", "times: [.nan, 0.5, 2.5, 3.0]"))
+    assert "v_ref: times = nan is not finite" in str(load_error(bad))
