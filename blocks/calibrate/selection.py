@@ -233,7 +233,7 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
         if not rf.z > Z_MIN:
             rf.reasons.append(f"|phi| = {rf.z:.2g} SE (needs > {Z_MIN:g})")
         if not rf.plausible:
-            rf.reasons.append(f"outside the plausible range {range_text(base_model.exp, rf.score.place)}")
+            rf.reasons.append(f"outside the plausible range {range_text(getattr(rf.model, 'exp', None), rf.score.place)}")
         if not rf.dbic < DBIC_MAX:
             rf.reasons.append(f"dBIC = {rf.dbic:.3g} (needs < {DBIC_MAX:g})")
         if not rf.free:

@@ -39,8 +39,9 @@ def shown(exp, key: str, value: float, unit: str) -> tuple[float, str]:
 
 
 def range_text(exp, place) -> str:
-    """'[-1.2, 1.2] bar': a candidate's plausible range as people read it, in the unit :func:`shown` gives."""
-    factor, unit = shown(exp, place.key, 1.0, place.unit)
+    """'[-1.2, 1.2] bar': a candidate's plausible range as people read it, in the unit :func:`shown` gives
+    (without an experiment, ``exp`` None: in SI)."""
+    factor, unit = shown(exp, place.key, 1.0, place.unit) if exp is not None else (1.0, place.unit)
     lo, hi = (bound * factor for bound in place.plausible)
     return f"[{lo:.3g}, {hi:.3g}]" + ("" if unit in ("", "1", "SI") else f" {unit}")
 
