@@ -1137,7 +1137,14 @@ RERUNS = (  # (archive, what changed): each a paragraph of the table's versions,
      "equilibrium, scored T = 14). Compared with the records above, or with session 21's reruns where "
      "there are some: the recorded-command seeds but `time_coulomb` 1 were not rerun in session 21, so their "
      "differences carry its solver change too (a breakpoint at each point of the recording's profile; the "
-     "accepted effects are the same, so the final fits differ by the solver alone)."),
+     "accepted effects are the same, so the final fits differ by the solver alone). These seeds ran the "
+     "check's first version, which called a change not proportional at its first step 'no effect' at once."),
+    ("s22_retry.jsonl",
+     "The check's final version (a review showed, on a model of its own, that the first would call a strong "
+     "transport delay 'no effect': its "
+     "step had ended at 1e-5 s, and half of it, under the delay's shortest 1e-5 s, passes the input through) "
+     "tries such a change again at 10 times its step and scores it there if it is first order. Compared with "
+     "the same records."),
 )
 
 
