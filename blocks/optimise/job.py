@@ -495,26 +495,29 @@ class _Resolver:
         )
         job.fingerprint = self.fingerprint(netlist)
         job.sources = source_digests(self.circuit.flat.files, Path(netlist).resolve().parent)
-        job.warnings = self.edges_failing(free, {**fixed, **cases[0][1]}, job.units)
+        job.warnings = self.edges_failing(free, fixed, cases, job.units)
         return job
 
-    def edges_failing(self, free: list[FreeParam], fixed: dict[str, float], units: dict[str, str]) -> list[str]:
+    def edges_failing(self, free: list[FreeParam], fixed: dict[str, float], cases: list, units: dict[str, str]
+                      ) -> list[str]:
         """A line for each free parameter at a bound of its range where the blocks' checks of their values
         together refuse the design (a relief's p_set free up to 200 bar, its p_open fixed at 160 bar), the
-        others at the netlist's values: such designs fail and cost the penalty, which the job should know
-        before it runs rather than read in its count of failures."""
+        others at the netlist's values, in the first load case that refuses it: such designs fail and cost the
+        penalty, which the job should know before it runs rather than read in its count of failures."""
         from blocks.optimise.display import shown
 
         lines = []
         for p in free:
             for edge, value in (("min", p.lower), ("max", p.upper)):
-                try:
-                    self.circuit.vectors({**fixed, p.name: value})
-                except NetlistError as exc:
-                    origin = _origin(exc)
-                    lines.append(f"{self.located.file}: parameters.{p.name}.{edge} = {shown(value, units[p.name])}"
-                                 f" (the rest at the netlist's values) is refused: {exc.message}{origin}; designs "
-                                 f"there fail and cost the penalty")
+                for case, values in cases:
+                    try:
+                        self.circuit.vectors({**fixed, **values, p.name: value})
+                    except NetlistError as exc:
+                        where = f"load case {case}, " if len(cases) > 1 else ""
+                        lines.append(f"{self.located.file}: parameters.{p.name}.{edge} = "
+                                     f"{shown(value, units[p.name])} ({where}the rest at the netlist's values) is "
+                                     f"refused: {exc.message}{_origin(exc)}; designs there fail and cost the penalty")
+                        break
         return lines
 
     def name(self) -> str:

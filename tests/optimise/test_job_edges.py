@@ -39,3 +39,15 @@ def test_a_bound_past_what_the_netlist_allows_is_said(tmp_path):
 
 def test_a_range_the_netlist_allows_says_nothing(tmp_path):
     assert _job(tmp_path, "100 bar", "185 bar")[1].warnings == []
+
+
+def test_a_bound_refused_in_one_load_case_only_names_it(tmp_path):
+    # the review of session 22: only the first load case was tried
+    path = tmp_path / "job.yaml"
+    path.write_text(JOB.replace("{low}", "100 bar").replace("{high}", "185 bar")
+                    + 'load_cases:\n  open_190: {relief.p_open: "190 bar"}\n  open_183: {relief.p_open: "183 bar"}\n')
+    job = load_job(path)
+    assert len(job.warnings) == 1
+    assert job.warnings[0].startswith(f"{path}: parameters.relief.p_set.max = 185 bar (load case open_183, the rest at "
+                                      f"the netlist's values) is refused: relief: p_open = 183 bar must be above "
+                                      f"p_set = 185 bar")
