@@ -212,9 +212,9 @@ class Circuit:
         if settings.solver == "fixed" and settings.fixed_step_check:
             from blocks.solve.step_check import doubled_step_warning
 
-            moved = doubled_step_warning(self, vec, settings, outcome)
-            if moved:
-                result.warnings.append(moved)
+            result.step_check = doubled_step_warning(self, vec, settings, outcome)
+            if result.step_check:
+                result.warnings.append(result.step_check)
         return result
 
     def equilibrium(self, overrides: dict[str, float] | None = None, guess: np.ndarray | None = None,

@@ -117,7 +117,9 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Simulation", "max_steps"): "The run fails after this many steps.",
     ("Simulation", "fixed_step_check"): "With the `fixed` solver, run again at twice the step and warn if an "
                                         "output moves by over 1 % of its range (costs half a run; `false` "
-                                        "skips it, e.g. in an optimisation already checked).",
+                                        "skips it). An optimisation's evaluations and a calibration's fits "
+                                        "skip it; the best design, a sweep's points and the calibrated "
+                                        "model are checked.",
     ("CsvColumn", "csv"): "The CSV file, relative to the netlist's folder; header cells `name [unit]`.",
     ("CsvColumn", "column"): "The column's name (with or without its `[unit]`); the values are converted from "
                              "the header's unit to the parameter's SI unit.",

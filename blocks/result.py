@@ -58,6 +58,7 @@ class Result:
     stats: dict
     seconds: float
     warnings: list[str] = field(default_factory=list)
+    step_check: str = ""  # solver fixed: the doubled-step check's line ('' if unsaid or not run), also in warnings
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A logged signal in SI by name."""

@@ -129,7 +129,9 @@ class Model:
             if self.t_max < t_end:
                 raise VphsError(f"{exp.file}: steady.t_max = {self.t_max:g} s is shorter than the settling run "
                                 f"({t_end:g} s)")
-        self.settings = settings.with_(**changes)
+        # a fixed step's doubled-step check would cost every run half a run more: the final model alone is
+        # checked (step_check)
+        self.settings = settings.with_(fixed_step_check=False, **changes)
         self.runs = data.groups if data.kind == "time" else {}  # a time series: its runs (one unless grouped)
         for label, idx in self.runs.items():
             self._check_span(label, idx)
@@ -418,6 +420,22 @@ class Model:
         over.update(self._group_values(x, label))
         over.update(self._trace_overrides(x, label))
         return over
+
+    def step_check(self, x: np.ndarray) -> list[str]:
+        """``solver: fixed``: each run of a time series at ``x`` simulated again with the doubled-step check
+        (:mod:`blocks.solve.step_check`; the fits ran without it), its lines. [] for steady points (an
+        equilibrium, and a run settled at it, do not depend on the step) or another solver."""
+        if self.data.kind != "time" or self.settings.solver != "fixed":
+            return []
+        base, lines = self._net_overrides(x), []
+        for label in self.runs:
+            try:
+                result = self._run(self._run_overrides(label, base, x), self.settings.with_(fixed_step_check=True))
+            except VphsError:  # a run that fails is the fit's to report
+                continue
+            if result.step_check:
+                lines.append(result.step_check if len(self.runs) == 1 else f"run {label}: {result.step_check}")
+        return lines
 
     def _group_values(self, x: np.ndarray, label: str) -> dict:
         """The globals of one group (or run): its latent command levels and its values of the declared

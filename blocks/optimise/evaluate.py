@@ -16,6 +16,12 @@ A failed simulation (:class:`~blocks.errors.SimulationError`), a value the netli
 term gives status "failed", the error's message and the job's penalty as cost; it never raises.
 Cavitation warnings are kept with the record.
 
+With ``solver: fixed`` a simulation normally runs again at twice the step to say whether the step is too
+long (:mod:`blocks.solve.step_check`, half a run more). An optimisation's evaluations skip that check
+(``check_fixed_step`` False): thousands of designs would pay it, and only the design reported is run
+again with it (:func:`blocks.optimise.report.write_optimise_report`). A sweep reports every point, so each
+point is checked.
+
 The circuit is loaded once per process (``Circuit.from_file``; compiled code comes from the disk cache)
 and kept for every later evaluation in that process; a lock makes a worker with several threads run one
 simulation at a time.
@@ -44,6 +50,7 @@ class EvalSpec:
     terms: tuple[Term, ...]
     combine: str = "sum"
     penalty: float = 1e9
+    check_fixed_step: bool = False  # solver fixed: run each simulation again at twice the step (a sweep's)
 
 
 def circuit_for(netlist: str):
@@ -72,7 +79,9 @@ def evaluate_case(spec: EvalSpec, design: dict[str, float], k: int) -> dict:
     part = {"case": name, "terms": None, "cost": None, "error": None, "warnings": [], "pid": os.getpid()}
     with _LOCK:
         try:
-            result = circuit_for(spec.netlist).simulate(case_overrides(spec, design, spec.cases[k]))
+            circuit = circuit_for(spec.netlist)
+            settings = None if spec.check_fixed_step else circuit.settings.with_(fixed_step_check=False)
+            result = circuit.simulate(case_overrides(spec, design, spec.cases[k]), settings=settings)
         except VphsError as exc:  # SimulationError, ParameterError, NetlistError
             part["error"] = f"{label}{exc}"
         except Exception as exc:  # a bug, not the design's fault: recorded as such, the job goes on

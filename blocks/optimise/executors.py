@@ -32,6 +32,7 @@ once (``Circuit.from_file``, compiled code from the disk cache) and keeps it for
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import multiprocessing
 import os
 import signal
@@ -94,8 +95,9 @@ _WORKER_SPEC: EvalSpec | None = None
 def warm_up(spec: EvalSpec) -> None:
     """Load the circuit and evaluate the netlist's own design once: numba reads the integrator's compiled
     code from the disk cache at the first call and the cost terms import scipy.signal (together a second
-    or so), which should happen once per process, not inside the first evaluation. A failure is fine."""
-    evaluate_design(spec, {})
+    or so), which should happen once per process, not inside the first evaluation. A failure is fine; nothing
+    is said of it, so a fixed step is not checked."""
+    evaluate_design(dataclasses.replace(spec, check_fixed_step=False), {})
 
 
 def _worker_start(spec: EvalSpec, parent: int, warm: bool) -> None:

@@ -330,12 +330,13 @@ class Job:
                    f"{shown(p.upper, p.unit)}]" for p in self.free if not p.lower <= self.start_values[p.name] <= p.upper]
         return "; ".join(outside)
 
-    def spec(self):
+    def spec(self, check_fixed_step: bool = False):
+        """What a worker needs to evaluate a design (``check_fixed_step``: see :mod:`blocks.optimise.evaluate`)."""
         from blocks.optimise.evaluate import EvalSpec
 
         return EvalSpec(self.netlist, tuple(self.fixed.items()),
                         tuple((name, tuple(values.items())) for name, values in self.cases),
-                        tuple(self.terms), self.combine, self.penalty)
+                        tuple(self.terms), self.combine, self.penalty, check_fixed_step)
 
 
 def load_job(file: str | Path) -> Job:

@@ -90,6 +90,8 @@ def write_optimise_report(summary) -> Path:
     signals_png = None
     if best is not None:
         results = _resimulate(job, best["parameters"])
+        summary.step_checks = [f"load case '{case}': {r.step_check}" if len(results) > 1 else r.step_check
+                               for case, r in results.items() if r is not None and r.step_check]
         signals_png = folder / "best_signals.png"
         number = on_path_number(records, best)
         _signals_plot(job, results, signals_png, f"{job.name}: best design (evaluation {number})")
@@ -153,7 +155,9 @@ def netlist_comparison(summary) -> tuple[str, bool]:
 def warnings(summary) -> list[str]:
     """What the reader must not miss, as sentences, for the report and the console alike: the best found no
     better than the netlist's own design; working designs costlier than a failed one (the penalty too
-    low); differential evolution with a budget that only samples its initial population."""
+    low); differential evolution with a budget that only samples its initial population; the best design's
+    fixed step too long (checked when the report runs it again: the evaluations ran unchecked); a sweep's
+    points with warnings."""
     from blocks.optimise.scipy_methods import de_generations
 
     job, out = summary.job, []
@@ -169,6 +173,13 @@ def warnings(summary) -> list[str]:
         out.append(f"differential evolution only sampled: max_evaluations = {job.settings.max_evaluations} allows "
                    f"its initial population of popsize * n = {size} random designs and no generation after it, so "
                    f"the best is the best of those samples; give max_evaluations >= {2 * size} for it to evolve")
+    out += [f"the best design, run again with its step checked: {line} (the evaluations ran with this step "
+            f"unchecked, so their costs may be off too)" for line in summary.step_checks]
+    if summary.command == "sweep":
+        warned = [r for r in summary.records if r.get("warnings")]
+        if warned:
+            out.append(f"{len(warned)} of {len(summary.records)} points ran with warnings (the report's Warnings "
+                       f"section lists them)")
     return out
 
 
@@ -395,9 +406,25 @@ def write_sweep_report(summary) -> Path:
     failed = [r for r in records if r["status"] != "ok"]
     if failed:
         lines += [f"## Failed points ({len(failed)})", ""] + [f"- {e}" for e in _distinct_errors(records)] + [""]
+    lines += _sweep_warnings(job, records)
     path = folder / "report.md"
     atomic_write_text(path, "\n".join(lines))
     return path
+
+
+def _sweep_warnings(job, records: list[dict], shown_at_most: int = 50) -> list[str]:
+    """The report's section listing the points that ran with warnings (a fixed step too long, a cavity), each
+    with its values; [] if none did."""
+    warned = [r for r in records if r.get("warnings")]
+    if not warned:
+        return []
+    lines = [f"## Warnings ({len(warned)} points)", ""]
+    for r in warned[:shown_at_most]:
+        where = ", ".join(f"{n} = {_param(job, n, r['parameters'][n])}" for n in job.sweep_names)
+        lines.append(f"- evaluation {r['index']} ({where}): " + "; ".join(r["warnings"]))
+    if len(warned) > shown_at_most:
+        lines.append(f"- and {len(warned) - shown_at_most} more points (their records in evaluations.jsonl)")
+    return lines + [""]
 
 
 def _sweep_plot(job, records: list[dict], path: Path) -> None:

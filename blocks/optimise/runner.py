@@ -79,6 +79,7 @@ class Summary:
     records: list = field(default_factory=list)  # the method's path, in the order it asked for them
     discarded: list = field(default_factory=list)  # evaluated ahead and not needed (only in the log)
     report: Path | None = None
+    step_checks: list = field(default_factory=list)  # solver fixed: the best design's doubled-step check (report.py)
 
     @property
     def total(self) -> int:
@@ -229,7 +230,8 @@ def _open(job: Job, command: str, folder: Path, resume: bool, workers, scheduler
                         f"workers; give one or the other")
     fingerprint = f"{job.fingerprint}-{command}"
     old = EvaluationLog.existing(folder, fingerprint, resume, job.sources)  # a foreign log, before any worker starts
-    executor = make_executor(job.spec(), workers or job.workers, scheduler or job.scheduler, client)
+    # a sweep reports every point, so each is run again at twice a fixed step; an optimisation only its best
+    executor = make_executor(job.spec(check_fixed_step=command == "sweep"), workers or job.workers, scheduler or job.scheduler, client)
     header = {"type": "job", "fingerprint": fingerprint, "job": str(job.file), "name": job.name,
               "command": command, "netlist": job.netlist, "seed": job.seed, "sources": job.sources,
               **header_extra(executor, old)}
