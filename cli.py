@@ -710,6 +710,8 @@ def cmd_linearise(args) -> int:
             raise ArgumentError(f"vphs: --at '{args.at}': {problem[1]}")
     circuit.compile(quiet=args.quiet)
     point = operating_point(circuit, overrides, circuit.settings, at, args.equilibrium)
+    for warning in point.warnings:
+        print(f"vphs: warning: the run to the operating point: {warning}", file=sys.stderr)
     model = linearise(circuit, point, inputs, args.output or None)
     found = modes(model)
     out_units = [logged[name].display_unit for name in model.output_names]

@@ -59,6 +59,7 @@ class OperatingPoint:
     how: str  # "the state at t = 2 s of the run", "the equilibrium with the inputs at t = 2 s"
     rates: np.ndarray = field(default_factory=lambda: np.zeros(0))  # f(t, x): zero at an equilibrium
     moving: tuple[str, ...] = ()  # positions held in a steady motion (blocks.steady_motion): not at rest
+    warnings: tuple[str, ...] = ()  # the run's to the point (a cavity, a fixed step too long), as vphs run says them
 
 
 @dataclass
@@ -118,6 +119,7 @@ def operating_point(circuit, overrides: dict[str, float], settings, at: float | 
     t = settings.t_end if at is None else float(at)
     if t < settings.t_start:
         raise VphsError(f"the operating point's time {t:g} s is before the simulation's start {settings.t_start:g} s")
+    warnings: tuple[str, ...] = ()
     if t == settings.t_start:
         x = circuit.vectors(overrides).x0
         how = f"the initial state (t = {t:g} s)"
@@ -125,6 +127,7 @@ def operating_point(circuit, overrides: dict[str, float], settings, at: float | 
         result = circuit.simulate(overrides, settings.with_(t_end=t))
         x = np.array(result.states[-1], dtype=float)
         how = f"the state at t = {t:g} s of the run"
+        warnings = tuple(result.warnings)
     moving: tuple[str, ...] = ()
     if equilibrium:  # status 4: at rest but for states that act on nothing and integrate (see integrating())
         found = circuit.equilibrium(overrides, guess=x, t=t)
@@ -153,7 +156,7 @@ def operating_point(circuit, overrides: dict[str, float], settings, at: float | 
         raise SimulationError(f"{circuit.flat.file}: at {how}, the value or the rate of {', '.join(bad[:6])} is not "
                               f"finite: nothing to linearise (a non-finite initial value, or a rigid body with no "
                               f"mass or inertia?)")
-    return OperatingPoint(t, x, dict(overrides), how, rates, moving)
+    return OperatingPoint(t, x, dict(overrides), how, rates, moving, warnings)
 
 
 EQUILIBRIUM_FAILURE = {
