@@ -130,7 +130,7 @@ class Model:
                 raise VphsError(f"{exp.file}: steady.t_max = {self.t_max:g} s is shorter than the settling run "
                                 f"({t_end:g} s)")
         # a fixed step's doubled-step check would cost every run half a run more: the final model alone is
-        # checked (step_check)
+        # checked (run_warnings)
         self.settings = settings.with_(fixed_step_check=False, **changes)
         self.runs = data.groups if data.kind == "time" else {}  # a time series: its runs (one unless grouped)
         for label, idx in self.runs.items():
@@ -421,11 +421,13 @@ class Model:
         over.update(self._trace_overrides(x, label))
         return over
 
-    def step_check(self, x: np.ndarray) -> list[str]:
-        """``solver: fixed``: each run of a time series at ``x`` simulated again with the doubled-step check
-        (:mod:`blocks.solve.step_check`; the fits ran without it), its lines. [] for steady points (an
-        equilibrium, and a run settled at it, do not depend on the step) or another solver."""
-        if self.data.kind != "time" or self.settings.solver != "fixed":
+    def run_warnings(self, x: np.ndarray) -> list[str]:
+        """Each run of a time series at ``x`` simulated again, ``solver: fixed`` with its doubled-step check
+        (:mod:`blocks.solve.step_check`; the fits ran without it): what those runs warn of (a vapour cavity, a
+        pressure beyond hydraulics, a fixed step too long), which the fits' runs do not say. [] for steady
+        points: an equilibrium, and a run settled at it, do not depend on the step, and a settling run's
+        transient is not the data's."""
+        if self.data.kind != "time":
             return []
         base, lines = self._net_overrides(x), []
         for label in self.runs:
@@ -433,8 +435,7 @@ class Model:
                 result = self._run(self._run_overrides(label, base, x), self.settings.with_(fixed_step_check=True))
             except VphsError:  # a run that fails is the fit's to report
                 continue
-            if result.step_check:
-                lines.append(result.step_check if len(self.runs) == 1 else f"run {label}: {result.step_check}")
+            lines += [w if len(self.runs) == 1 else f"run {label}: {w}" for w in result.warnings]
         return lines
 
     def _group_values(self, x: np.ndarray, label: str) -> dict:

@@ -193,8 +193,8 @@ def calibrate(experiment: str | Path | Experiment, out: str | Path, progress=Non
     cal.verdict, cal.unexplained = verdict(cal)
     cal.verdict[:0] = few
     cal.verdict += gross_residuals(cal)  # a line of its own after the verdict's (blocks.calibrate.outliers)
-    cal.verdict += [f"the final model, run again with its fixed step checked: {line} (every fit ran with this step "
-                    f"unchecked)" for line in cal.final.model.step_check(cal.final.fit.x)] if cal.final else []
+    cal.verdict += [f"the final model's run warns: {line}" for line in cal.final.model.run_warnings(cal.final.fit.x)] \
+        if cal.final else []
     cal.calibrated = write_calibrated(cal)
     cal.seconds["total"] = time.perf_counter() - clock
     return cal

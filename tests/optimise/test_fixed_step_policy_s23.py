@@ -118,4 +118,4 @@ def test_a_calibration_checks_its_final_model_once_and_says_so_in_the_verdict(tm
     cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out", with_heldout=False)
     assert cal.simulations > 10 and len(checks) == 1  # the fits' runs unchecked, the final model checked
     said = [line for line in cal.verdict if TOO_LONG in line]
-    assert len(said) == 1 and said[0].startswith("the final model, run again with its fixed step checked: ")
+    assert len(said) == 1 and said[0].startswith("the final model's run warns: simulation.fixed_step")
