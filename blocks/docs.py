@@ -381,7 +381,8 @@ def file_format() -> str:
         "written in, or for a bare number the dimension its readers take it in: `n_gear` in `J: \"0.085 + "
         "m_load*r_pinion**2/n_gear**2\"` is a plain number, so `--set \"n_gear=39 rpm\"` is an error. A bare "
         "number read only where any unit goes (a generic signal block's `SI` parameter) takes any unit, "
-        "converted to SI unchecked.",
+        "converted to SI unchecked. A job's `set:` and load-case values may also be expressions over the "
+        "netlist's parameters (see the optimisation job file below).",
         "",
         "### Fluid and defaults",
         "",
