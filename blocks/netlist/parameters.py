@@ -490,6 +490,23 @@ def _names_a_parameter(raw: str, scope: dict[str, str]) -> bool:
     return bool(spaced) and bool(set(re.findall(r"[A-Za-z_]\w*", unit_text[spaced.start():])) & set(scope))
 
 
+def _misspelt_unit(text: str, inline: dict, scope: dict[str, str]) -> UnknownUnitError | None:
+    """For an expression that does not parse: the misspelt unit of a "<number> <unit>" in it (``inline``, from
+    :func:`~blocks.units.substitute_quantities`) if that is all that is wrong, else None. It is, when the unit
+    is near known ones, no parameter has its name ("10 p_c" is a '*' left out) and the text parses with each
+    such quantity taken as a value ("p_c + 10 barr"; not "7500 k\\ng", a line break inside "7500 kg")."""
+    misspelt = [(unit, written) for local, (unit, written) in inline.items() if unit.near and local not in scope]
+    if not misspelt:
+        return None
+    for _, written in misspelt:
+        text = text.replace(written, " 1.0 ")
+    try:
+        parse_expression(text)
+    except ExpressionError:
+        return None
+    return misspelt[0][0]
+
+
 def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: Located, path: tuple,
                bounds=None) -> Entry:
     """Read a raw netlist value: a number (SI), '<number> <unit>' (checked against ``unit``) or an expression."""
@@ -517,17 +534,20 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
             return Entry(name, unit, value, None, scope, source, path, bounds, dims=dims, raw=raw)
         except UnitError as exc:
             unit_problem = exc  # may still be an expression such as "0.085 + m_load*r**2"
-    literals = {}
+    text, literals, inline = raw, {}, {}
     try:
-        text, literals = substitute_quantities(raw)
+        text, literals = substitute_quantities(raw, inline)
         expression = parse_expression(text)
     except (ExpressionError, UnitError) as exc:
         meant_an_expression = unit_problem is not None and not re.match(r"[A-Za-z%]", split_quantity(raw)[1])
         problem = as_written(str(exc), literals) if meant_an_expression or unit_problem is None else unit_problem
+        if problem is not unit_problem:
+            problem = _misspelt_unit(text, inline, scope) or problem
         raise source.error(path, f"{name}: {problem}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
         raise source.error(path, f"{name}: {unit_problem}")
-    unknown = {unit_problem.name: unit_problem} if isinstance(unit_problem, UnknownUnitError) else {}
+    unknown = {local: unit for local, (unit, _) in inline.items()}
+    unknown.update({unit_problem.name: unit_problem} if isinstance(unit_problem, UnknownUnitError) else {})
     return Entry(name, unit, None, expression, scope, source, path, bounds, literals=literals,
                  dims=parse_unit(unit) if unit and unit != GENERIC else FREE, raw=raw, unknown_units=unknown)
 
