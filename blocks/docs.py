@@ -92,7 +92,8 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Output", "of"): "What to log: a net name (its pressure or speed; for a signal net its driving output), "
                       "`<component>.<port>`, `<component>.<state>` (scalar states), or "
                       "`<component>.<port>.flow` / `.torque` / `.force`: what the block delivers to the net at "
-                      "that port (positive into the net, the engine's sign convention).",
+                      "that port (positive into the net, the engine's sign convention); for a `speed_source`'s "
+                      "or `velocity_source`'s `port`, the torque or force the source delivers to hold the speed.",
     ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit; for a generic signal, "
                         "the unit the ports reading it agree on, e.g. `1`, else `SI`). It must have the "
                         "dimension of what is logged where that is known: a net's pressure or speed, a port, "
@@ -382,7 +383,8 @@ def file_format() -> str:
         "written in, or for a bare number the dimension its readers take it in: `n_gear` in `J: \"0.085 + "
         "m_load*r_pinion**2/n_gear**2\"` is a plain number, so `--set \"n_gear=39 rpm\"` is an error. A bare "
         "number read only where any unit goes (a generic signal block's `SI` parameter) takes any unit, "
-        "converted to SI unchecked.",
+        "converted to SI unchecked. A job's `set:` and load-case values may also be expressions over the "
+        "netlist's parameters (see the optimisation job file below).",
         "",
         "### Fluid and defaults",
         "",

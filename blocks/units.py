@@ -341,16 +341,19 @@ _INLINE_QUANTITY = re.compile(
 _LITERAL_NAMES = __import__("itertools").count()
 
 
-def substitute_quantities(text: str) -> tuple[str, dict[str, tuple[float, Unit, str]]]:
+def substitute_quantities(text: str, unknown: dict | None = None) -> tuple[str, dict[str, tuple[float, Unit, str]]]:
     """Replace each "<number> <unit>" inside an expression by a placeholder name; return the new text and
     the placeholders' SI values, units and written text (so the dimension of the expression can be checked,
     and messages can show what was written, not the placeholder).
 
     ``"23000 kg + m_payload"`` -> ``("_q7 + m_payload", {"_q7": (23000.0, kg, "23000 kg")})``. A unit must
     follow its number after a space; text that is not a known unit is left alone ("3 bar * k": the unit is
-    "bar").
+    "bar"). ``unknown``, if given, receives each name written as a unit that is none, with its
+    :class:`UnknownUnitError` and the quantity as written ("barr": (..., "10 barr") in "p_c + 10 barr"; "mn":
+    (..., "10 l/mn") in "2*10 l/mn"), so that a message can say the misspelt unit.
     """
     literals: dict[str, tuple[float, Unit, str]] = {}
+    unknown = {} if unknown is None else unknown
 
     def replace(match: re.Match) -> str:
         unit_text = match.group("unit")
@@ -358,6 +361,9 @@ def substitute_quantities(text: str) -> tuple[str, dict[str, tuple[float, Unit, 
         for cut in reversed(cuts):
             try:
                 unit = parse_unit(unit_text[:cut])
+            except UnknownUnitError as exc:
+                unknown.setdefault(exc.name, (exc, match.group(0)))
+                continue
             except UnitError:
                 continue
             name = f"_q{next(_LITERAL_NAMES)}"

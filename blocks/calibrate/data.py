@@ -34,7 +34,9 @@ import numpy as np
 
 from blocks.calibrate.experiment import Experiment, described, unit_problem
 from blocks.datafile import DataFileError, Table, header_of, is_number, read_table
-from blocks.units import parse_unit, quantity_name, si_name, split_quantity
+from blocks.errors import NetlistError
+from blocks.netlist.yaml_source import shown_key
+from blocks.units import nearest, parse_unit, quantity_name, si_name, split_quantity
 
 
 @dataclass
@@ -137,8 +139,7 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     measured = {}
     for ch in exp.channels:
         if ch.name not in table.columns:
-            raise DataFileError(table.file, f"no column '{ch.name}' (the experiment's {ch.role}s.{ch.name}); "
-                                            f"columns: {', '.join(table.columns)}", table.header_line)
+            raise _missing_column(exp, table, ch.name, (f"{ch.role}s", ch.name))
         values = table.columns[ch.name]
         bad = np.nonzero(~np.isfinite(values))[0]
         if bad.size:
@@ -159,7 +160,7 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     if exp.spec.repeats is not None:
         if kind != "steady":
             raise exp.error(("repeats",), "repeats: marks repeated steady points; a time series has none")
-        ids = _repeat_numbers(table, exp.spec.repeats)
+        ids = _repeat_numbers(exp, table, exp.spec.repeats)
     if exp.groups:
         missing = sorted(set(labels) - set(exp.groups), key=str)
         if missing and group is not None:
@@ -184,7 +185,18 @@ def _load_file(exp: Experiment, file, first: bool = True, several: bool = False)
     return Dataset(kind, n, t, labels, measured, sigma, table, notes, repeat_ids=ids)
 
 
-def _repeat_numbers(table: Table, name: str) -> np.ndarray:
+def _missing_column(exp: Experiment, table: Table, name: str, path: tuple) -> NetlistError:
+    """A column ``name`` that the experiment asks for at ``path`` (its key: ``outputs.p4``, ``repeats``) and
+    the data file lacks: said at that key, where the mistake usually is (a misspelt or renamed column), with
+    the data file, the columns nearest ``name`` and every column it has."""
+    columns = list(table.positions) or list(table.columns)
+    near = nearest(name, columns)
+    hint = f"did you mean {', '.join(near)}? " if near else ""
+    where = ".".join(shown_key(p) for p in path)
+    return exp.error(path, f"{where}: no column '{name}' in {table.file} ({hint}its columns: {', '.join(columns)})")
+
+
+def _repeat_numbers(exp: Experiment, table: Table, name: str) -> np.ndarray:
     """The column ``name`` that numbers repeated points (the experiment's ``repeats:``), a number in every row.
     Beside a grouping column a column with a text cell is read as labels (:func:`blocks.datafile.read_table`):
     its first text cell is the error, not a column said to be missing."""
@@ -193,8 +205,7 @@ def _repeat_numbers(table: Table, name: str) -> np.ndarray:
         raise table.error(f"'{cell}' is not a number: the experiment's repeats: column numbers the repeated points "
                           f"(rows of a group with the same number are one operating point set up again)", name, k)
     if name not in table.columns:
-        raise DataFileError(table.file, f"no column '{name}' (the experiment's repeats:); columns: "
-                                        f"{', '.join(table.columns)}", table.header_line)
+        raise _missing_column(exp, table, name, ("repeats",))
     ids = table.columns[name]
     bad = np.nonzero(~np.isfinite(ids))[0]
     if bad.size:

@@ -1,7 +1,7 @@
 """The calibration report: ``report.md`` (for people), ``report.json`` (the same numbers for programs),
 ``residuals.png`` (residuals against the variable the found effect depends on, before and after) and
-``fit.png`` (the declared and final models against the data), all written atomically into the output folder
-beside the screening and augmented netlists. Every path in ``report.json`` (the experiment, netlist and data
+``fit.png`` (the declared and final models against the data, each output's misfit beneath), all written
+atomically into the output folder beside the screening and augmented netlists. Every path in ``report.json`` (the experiment, netlist and data
 files, the calibrated, round, exchange and elimination netlists) is absolute, whatever folder the run was
 started from and however the files were named on its command line.
 """
@@ -400,7 +400,9 @@ def markdown(cal, info: dict) -> str:
                                  if data.kind == "time" else
                                  f"each compared output against {exp.inputs[0].name if exp.inputs else 'the point'}"
                                  f", the readings with error bars of one noise sigma, each model's fitted values at "
-                                 f"the points' fitted inputs."), ""] if cal.initial and cal.final else []) + [
+                                 f"the points' fitted inputs.") + " Beneath each, its misfit, data - model, in the "
+                              "output's unit (declared: open markers or dashed; final: filled or solid), over the "
+                              "shaded band of one noise sigma.", ""] if cal.initial and cal.final else []) + [
           "![residuals](residuals.png)", "",
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
           + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
@@ -565,7 +567,8 @@ def plot_fit(cal, path: Path) -> None:
     points: each compared output against the first imposed input, the readings with error bars of one noise
     sigma (both ways), each model's fitted values at the points' fitted (latent) inputs joined in order of
     them, a colour per group. A time series: each compared output's reading and both models' traces against
-    t, a column per run (the first FIT_RUNS)."""
+    t, a column per run (the first FIT_RUNS). Beneath each output's panel, on its x axis, its misfit
+    (:func:`_misfit`): a panel scaled to the data's range hides one of 0.3 bar on a 50 bar signal."""
     import matplotlib
 
     matplotlib.use("Agg")
@@ -574,15 +577,16 @@ def plot_fit(cal, path: Path) -> None:
     exp, data = cal.exp, cal.data
     stages = (("declared", cal.initial, "--"), ("final", cal.final, "-"))
     outputs = list(exp.outputs)
+    heights = {"height_ratios": [2.0, 1.0] * len(outputs)}
     if data.kind == "time":
         runs = list(data.groups.items())[:FIT_RUNS]
-        fig, axes = plt.subplots(len(outputs), len(runs), figsize=(4.0 + 3.5 * len(runs), 1.2 + 2.4 * len(outputs)),
-                                 squeeze=False, sharex="col")
+        fig, axes = plt.subplots(2 * len(outputs), len(runs), figsize=(4.0 + 3.5 * len(runs), 1.2 + 3.6 * len(outputs)),
+                                 squeeze=False, sharex="col", gridspec_kw=heights)
         for row, ch in enumerate(outputs):
             f = _factor(ch.unit)
             fitted = {tag: _fitted(stage, ch.name) / f for tag, stage, _ in stages}
             for col, (label, idx) in enumerate(runs):
-                ax = axes[row, col]
+                ax = axes[2 * row, col]
                 t = data.t[idx]
                 ax.plot(t, data.measured[ch.name][idx] / f, ".", ms=2, color="grey", label="measured")
                 for tag, stage, style in stages:
@@ -590,20 +594,26 @@ def plot_fit(cal, path: Path) -> None:
                             label=f"{tag} model (chi^2/nu = {stage.lof.reduced:.3g})")
                 if row == 0 and len(data.groups) > 1:
                     ax.set_title(f"run {label}", fontsize="small")
+                _misfit(axes[2 * row + 1, col], t, data.measured[ch.name][idx] / f,
+                        {tag: fitted[tag][idx] for tag in fitted}, _per_point(data.sigma[ch.name], idx) / f,
+                        stages, None, legend=col == 0)
                 if col == 0:
                     ax.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
-                if row == len(outputs) - 1:
-                    ax.set_xlabel("t [s]")
+                    axes[2 * row + 1, col].set_ylabel(f"{ch.name}: data - model [{ch.unit or '1'}]")
                 ax.grid(True, alpha=0.3)
+        for ax in axes[-1]:
+            ax.set_xlabel("t [s]")
         axes[0, 0].legend(fontsize="x-small")
         shown = f" (the first {len(runs)} of {len(data.groups)} runs)" if len(data.groups) > len(runs) else ""
         title = f"{Path(exp.file).name}: measured and simulated{shown}"
     else:
         source = exp.inputs[0] if exp.inputs else None
-        fig, axes = plt.subplots(len(outputs), 1, figsize=(9, 1.2 + 3.0 * len(outputs)), squeeze=False, sharex="col")
+        fig, axes = plt.subplots(2 * len(outputs), 1, figsize=(9, 1.2 + 4.5 * len(outputs)), squeeze=False,
+                                 sharex="col", gridspec_kw=heights)
         groups = list(data.groups.items())
+        colored = [(f"C{k % 10}" if len(groups) > 1 else "C0", idx) for k, (_, idx) in enumerate(groups)]
         for row, ch in enumerate(outputs):
-            ax = axes[row, 0]
+            ax = axes[2 * row, 0]
             f = _factor(ch.unit)
             if source is not None:
                 fx = _factor(source.unit)
@@ -613,8 +623,7 @@ def plot_fit(cal, path: Path) -> None:
                 x, xerr = np.arange(data.n, dtype=float), None
                 at = {tag: x for tag, _, _ in stages}
             y = {tag: _fitted(stage, ch.name) / f for tag, stage, _ in stages}
-            for k, (label, idx) in enumerate(groups):
-                color = f"C{k % 10}" if len(groups) > 1 else "C0"
+            for (label, _), (color, idx) in zip(groups, colored):
                 ax.errorbar(x[idx], data.measured[ch.name][idx] / f, yerr=data.sigma[ch.name] / f, xerr=xerr, fmt="o",
                             ms=3, color=color, elinewidth=0.8, capsize=1.5,
                             label=f"{exp.spec.group or 'group'} {label}" if len(groups) > 1 else "measured (+- sigma)")
@@ -622,7 +631,10 @@ def plot_fit(cal, path: Path) -> None:
                     order = idx[np.argsort(at[tag][idx], kind="stable")]
                     ax.plot(at[tag][order], y[tag][order], style, marker="." if tag == "final" else None, ms=3,
                             lw=1.0, color=color, alpha=1.0 if tag == "final" else 0.6)
+            _misfit(axes[2 * row + 1, 0], x, data.measured[ch.name] / f, y,
+                    _per_point(data.sigma[ch.name], np.arange(data.n)) / f, stages, colored)
             ax.set_ylabel(f"{ch.name} [{ch.unit or '1'}]")
+            axes[2 * row + 1, 0].set_ylabel(f"{ch.name}: data - model [{ch.unit or '1'}]")
             ax.grid(True, alpha=0.3)
         axes[-1, 0].set_xlabel(f"{source.name} [{source.unit or '1'}] (measured; models at their fitted values)"
                                if source is not None else "point")
@@ -641,6 +653,34 @@ def plot_fit(cal, path: Path) -> None:
     fig.tight_layout()
     atomic_write_figure(fig, path)
     plt.close(fig)
+
+
+def _per_point(sigma, idx) -> np.ndarray:
+    """A channel's noise sigma at the points ``idx``: one value for all, or each point's."""
+    sigma = np.asarray(sigma, dtype=float)
+    return np.broadcast_to(sigma, np.shape(idx)) if sigma.ndim == 0 else sigma[idx]
+
+
+def _misfit(ax, x, measured, fitted: dict, sigma, stages, groups, legend: bool = True) -> None:
+    """A panel of the misfit, data - model, in the channel's unit against ``x``: the declared model's (open
+    markers, or dashed) and the final one's (filled, or solid), each point's own (no line joins steady points:
+    ``groups``, [(colour, indices)], colours them by group; None: a trace against t, joined), over the shaded
+    band of one noise sigma (a model that fits leaves its residuals mostly inside it) and the zero line."""
+    order = np.argsort(x, kind="stable")
+    ax.fill_between(x[order], -sigma[order], sigma[order], color="grey", alpha=0.2, lw=0, label="+- noise sigma")
+    ax.axhline(0.0, color="k", lw=0.6)
+    for tag, _, style in stages:
+        misfit = measured - fitted[tag]
+        if groups is None:
+            ax.plot(x, misfit, style, lw=1.0, color="C1" if tag == "declared" else "C0", label=f"{tag} model")
+            continue
+        for k, (color, idx) in enumerate(groups):
+            ax.plot(x[idx], misfit[idx], "o" if tag == "declared" else ".", ms=3, ls="none", color=color,
+                    mfc="none" if tag == "declared" else color, alpha=0.6 if tag == "declared" else 1.0,
+                    label=None if k else f"{tag} model")
+    ax.grid(True, alpha=0.3)
+    if legend:
+        ax.legend(fontsize="xx-small", ncol=3)
 
 
 def _axis(cal, against: str | None) -> tuple[np.ndarray, str]:

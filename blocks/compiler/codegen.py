@@ -8,6 +8,13 @@ The generated module holds two functions over the flat vectors (x: states, th: p
   pressure, a vapour cavity's: blocks.library.hydraulic.cavitation), and
   dw/dt = sum(r_k*tau_k) / sum(r_k^2*J_k) for a rigid body.
 - ``observe(t, x, th, y)``: the same first two steps, then the logged signals.
+- ``prescribed(t, x, th, a)`` (only when a source's torque or force is logged): the prescribed speeds.
+
+What a speed (velocity) source delivers to its rigid body is not part of the right-hand side (the body has
+no speed state to balance); ``observe`` computes it where it is logged: tau = M*dw/dt - F, with M the
+body's inertia and F its generalised torque as above (the source's net is the body's root, r = 1), and
+dw/dt the rate of the prescribed speed along the solution, d/dt w(t, x(t)), a central difference
+(w(t + h, x + h*dx) - w(t - h, x - h*dx))/(2h), h = 1e-6*max(1, |t|) s, dx = rhs(t, x).
 
 Block equations are called as numba functions with scalar arguments and inline into straight-line code,
 so a step costs what a hand-written compiled function would, not a Python loop over blocks.
@@ -64,6 +71,7 @@ class Generator:
         self.comp_index = {name: i for i, name in enumerate(st.circuit.components)}
         self.net_index = {name: j for j, name in enumerate(st.circuit.nets)}
         self.classes: dict[type, int] = {}
+        self.reactions: list[tuple[str, str]] = []  # (source, port) whose torque or force observe computes
         for comp in st.circuit.components.values():
             self.classes.setdefault(comp.cls, len(self.classes))
 
@@ -233,19 +241,87 @@ class Generator:
         if body.state is None:
             return []
         k = body_index[id(body)]
+        return self._add_to_body(net, temp, capacity, f"F_b{k}", f"M_b{k}")
+
+    def _add_to_body(self, net: str, temp: str, capacity: bool, force: str, mass: str) -> list[str]:
+        """A port's torque (force) or inertia (mass) on ``net``, added to its rigid body's sums: r*tau to the
+        generalised torque, r^2*J to the inertia."""
         r = self.ratio(net)
-        return [f"M_b{k} += {r} * {r} * {temp}"] if capacity else [f"F_b{k} += {r} * {temp}"]
+        return [f"{mass} += {r} * {r} * {temp}"] if capacity else [f"{force} += {r} * {temp}"]
+
+    # ---- what a speed or velocity source delivers ------------------------------------------------------
+    def _reaction(self, comp: str, port: str) -> str:
+        """The variable that ``observe`` computes the source's torque (force) into."""
+        if (comp, port) not in self.reactions:
+            self.reactions.append((comp, port))
+        return f"R{self.reactions.index((comp, port))}"
+
+    def _body_ports(self, body) -> list[tuple[str, int, object, bool]]:
+        """(component, index of its derivatives' value, port, capacity?) of each port on the rigid body
+        that delivers a torque (force) or stores an inertia (mass)."""
+        st, found = self.st, []
+        for comp, flat in st.circuit.components.items():
+            cls = flat.cls
+            if cls.derivatives is None:
+                continue
+            delivered = [(p, False) for p in cls.through_ports()] + [(p, True) for p in cls.storing_ports()]
+            for k, (port, capacity) in enumerate(delivered):
+                if st.body_of.get(st.port_net[(comp, port.name)]) is body:
+                    found.append((comp, k, port, capacity))
+        return found
+
+    def reaction_lines(self) -> list[str]:
+        """``observe``'s lines computing each logged source's torque (force): tau = M*dw/dt - F (module
+        docstring)."""
+        if not self.reactions:
+            return []
+        st = self.st
+        bodies = [st.body_of[st.port_net[source]] for source in self.reactions]
+        ports = [self._body_ports(body) for body in bodies]
+        lines = ["dx = np.zeros(x.shape[0])"]  # also what a block's array state derivative is written into
+        if any(capacity for found in ports for *_, capacity in found):
+            n = len(self.reactions)
+            lines += ["rhs(t, x, th, dx)", "h_r = 1e-6 * max(1.0, abs(t))",
+                      f"a_p = np.empty({n})", f"a_m = np.empty({n})", "prescribed(t + h_r, x + h_r * dx, th, a_p)",
+                      "prescribed(t - h_r, x - h_r * dx, th, a_m)"]
+        called = set()
+        for found in ports:
+            for comp, *_ in found:
+                if comp not in called:
+                    called.add(comp)
+                    i = self.comp_index[comp]
+                    temps = [f"d{i}_{k}" for k in range(len(st.circuit.components[comp].cls.derivative_names()))]
+                    lines.append(f"{', '.join(temps)}, = {self.call(comp, 'derivatives')}")
+        for m, found in enumerate(ports):
+            lines += [f"F_r{m} = 0.0", f"M_r{m} = 0.0"]
+            for comp, k, port, capacity in found:
+                lines += self._add_to_body(st.port_net[(comp, port.name)], f"d{self.comp_index[comp]}_{k}", capacity,
+                                           f"F_r{m}", f"M_r{m}")
+            rate = f"(a_p[{m}] - a_m[{m}]) / (2.0 * h_r)" if any(c for *_, c in found) else "0.0"
+            lines.append(f"R{m} = M_r{m} * {rate} - F_r{m}")
+        return lines
+
+    def prescribed(self) -> list[str]:
+        """The body of ``prescribed(t, x, th, a)``: the speed each logged source prescribes, into a."""
+        return self.prelude() + [f"a[{m}] = {self.out_var(*source)}" for m, source in enumerate(self.reactions)]
 
     def source(self, outputs: list[OutputExpr]) -> str:
         body = "\n".join("    " + line for line in self.rhs()) or "    pass"
-        obs = self.prelude() + [f"y[{m}] = {o.expr}" for m, o in enumerate(outputs)]
+        obs = self.prelude() + self.reaction_lines() + [f"y[{m}] = {o.expr}" for m, o in enumerate(outputs)]
         obs_body = "\n".join("    " + line for line in obs) or "    pass"
+        prescribed = "\n".join("    " + line for line in self.prescribed())
+        prescribed = f"""
+
+
+@njit(cache=True, error_model="numpy")
+def prescribed(t, x, th, a):
+{prescribed}""" if self.reactions else ""
         return "\n".join(self.header()) + f"""
 
 
 @njit(cache=True, error_model="numpy")
 def rhs(t, x, th, dx):
-{body}
+{body}{prescribed}
 
 
 @njit(cache=True, error_model="numpy")
@@ -256,7 +332,8 @@ def observe(t, x, th, y):
     # ---- logged signals --------------------------------------------------------------------------------
     def resolve_output(self, ref: str) -> tuple[str, str]:
         """'A' (a net), 'sensor.y' (a port), 'valve.x' (a state) or 'motor.a.flow' (what a block delivers
-        to the net at a physical port: flow, torque or force, positive into the net) -> (expression, SI unit)."""
+        to the net at a physical port: flow, torque or force, positive into the net; for a speed or velocity
+        source's port, what the source delivers: :meth:`reaction_lines`) -> (expression, SI unit)."""
         st = self.st
         ref = st.circuit.resolve_alias(ref)
         through = self._resolve_through(ref)
@@ -298,7 +375,8 @@ def observe(t, x, th, y):
         if comp not in self.st.circuit.components:
             return None
         cls = self.st.circuit.components[comp].cls
-        ports = [p.name for p in cls.through_ports()]
+        sources = [p.name for p in cls.physical_ports() if p.name in cls.prescribes and p.kind in MECHANICAL]
+        ports = [p.name for p in cls.through_ports()] + sources
         if port_name not in ports:
             raise KeyError(f"'{ref}': {cls.type_name} delivers no {what} at '{port_name}' "
                            f"(ports with a through value: {', '.join(ports) or 'none'})")
@@ -306,6 +384,8 @@ def observe(t, x, th, y):
         if THROUGH_SUFFIX[what] is not port.kind:
             raise KeyError(f"'{ref}': port {port_name} is {port.kind.value}; ask for its "
                            f"{next(k for k, v in THROUGH_SUFFIX.items() if v is port.kind)}")
+        if port_name in sources:
+            return self._reaction(comp, port_name), THROUGH[port.kind][1]
         if len(cls.scalar_states()) < len(cls.states):
             raise KeyError(f"'{ref}': through values of blocks with array states cannot be logged")
         index = cls.derivative_names().index(f"{THROUGH[port.kind][0]}_{port_name}")
@@ -313,6 +393,7 @@ def observe(t, x, th, y):
 
 
 THROUGH_SUFFIX = {"flow": PortKind.HYDRAULIC, "torque": PortKind.ROTATIONAL, "force": PortKind.TRANSLATIONAL}
+MECHANICAL = (PortKind.ROTATIONAL, PortKind.TRANSLATIONAL)
 
 
 def cls_state_scalar(cls, name: str) -> bool:

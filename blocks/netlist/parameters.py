@@ -240,15 +240,55 @@ class ParameterTable:
         if not unit_text:
             return number
         given = parse_unit(unit_text)
-        known = self.dimension(name)  # declared, written (an expression's too), or its places'
-        if known is not None:
-            if not given.same_dimension(known):
-                raise UnitError(f"wrong unit '{unit_text}': {name} is in {known.describe_dims()}")
-        else:
-            conflict = self.unit_conflict(name, given)
-            if conflict:
-                raise UnitError(f"wrong unit '{unit_text}': {conflict}")
+        problem = self.dimension_problem(name, given)
+        if problem:
+            raise UnitError(f"wrong unit '{unit_text}': {problem}")
         return number * given.factor
+
+    def dimension_problem(self, name: str, given: Unit) -> str | None:
+        """Why a value given for ``name`` from outside the netlist in the dimension ``given`` cannot be one
+        (None: it can): the dimension the netlist gives ``name`` (:meth:`dimension`: declared, written, or
+        its places'), else what its readers say (:meth:`unit_conflict`)."""
+        known = self.dimension(name)
+        if known is not None:
+            return None if given.same_dimension(known) else f"{name} is in {known.describe_dims()}"
+        return self.unit_conflict(name, given)
+
+    def given_expression(self, name: str, raw, source: Located, path: tuple, label: str) -> Entry | None:
+        """A value given for ``name`` from outside the netlist (a job's ``set:``) as an expression over the
+        netlist's parameters, written as the netlist writes one (``"2*w0 + 1 rad/s"``) and reading them by
+        their qualified names: an entry named ``label`` (the place its messages name, ``set.sys.wn``), its
+        names and its dimension checked (against ``name``'s: :meth:`dimension_problem`), errors located at
+        ``path`` in ``source``. None for a number or ``"<number> <unit>"`` (:meth:`value_si` reads those).
+        Evaluate it with :meth:`value_of`; :meth:`reads` says what its value depends on."""
+        if not isinstance(raw, str):
+            return None
+        entry = make_entry(label, raw, None, {n: n for n in self.entries}, source, path)
+        if entry.expression is None:
+            return None
+        self.order()
+        self._read_by(entry)
+        dims = self._dimension_of(entry, self._dims)
+        problem = self.dimension_problem(name, dims) if dims is not FREE else None
+        if problem:
+            raise entry.error(f"{label}: wrong unit: '{raw}' is in {dims.describe_dims()}, but {problem}")
+        return entry
+
+    def reads(self, entry: Entry) -> set[str]:
+        """The names ``entry``'s value depends on: those it reads, and through their expressions theirs."""
+        found, todo = set(), [entry]
+        while todo:
+            reader = todo.pop()
+            for local in reader.dependencies():
+                target = reader.scope[local]  # order() checked the scope
+                if target not in found:
+                    found.add(target)
+                    todo.append(self.entries[target])
+        return found
+
+    def value_of(self, entry: Entry, values: dict[str, float | tuple]) -> float | tuple:
+        """The value of an entry not in the table (:meth:`given_expression`) from the table's ``values``."""
+        return self._value(entry, values)
 
     def unit_conflict(self, name: str, given: Unit) -> str | None:
         """Why a value of ``name`` in the dimension ``given`` cannot be one, where the netlist gives ``name`` no
@@ -450,6 +490,23 @@ def _names_a_parameter(raw: str, scope: dict[str, str]) -> bool:
     return bool(spaced) and bool(set(re.findall(r"[A-Za-z_]\w*", unit_text[spaced.start():])) & set(scope))
 
 
+def _misspelt_unit(text: str, inline: dict, scope: dict[str, str]) -> UnknownUnitError | None:
+    """For an expression that does not parse: the misspelt unit of a "<number> <unit>" in it (``inline``, from
+    :func:`~blocks.units.substitute_quantities`) if that is all that is wrong, else None. It is, when the unit
+    is near known ones, no parameter has its name ("10 p_c" is a '*' left out) and the text parses with each
+    such quantity taken as a value ("p_c + 10 barr"; not "7500 k\\ng", a line break inside "7500 kg")."""
+    misspelt = [(unit, written) for local, (unit, written) in inline.items() if unit.near and local not in scope]
+    if not misspelt:
+        return None
+    for _, written in misspelt:
+        text = text.replace(written, " 1.0 ")
+    try:
+        parse_expression(text)
+    except ExpressionError:
+        return None
+    return misspelt[0][0]
+
+
 def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: Located, path: tuple,
                bounds=None) -> Entry:
     """Read a raw netlist value: a number (SI), '<number> <unit>' (checked against ``unit``) or an expression."""
@@ -477,17 +534,20 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
             return Entry(name, unit, value, None, scope, source, path, bounds, dims=dims, raw=raw)
         except UnitError as exc:
             unit_problem = exc  # may still be an expression such as "0.085 + m_load*r**2"
-    literals = {}
+    text, literals, inline = raw, {}, {}
     try:
-        text, literals = substitute_quantities(raw)
+        text, literals = substitute_quantities(raw, inline)
         expression = parse_expression(text)
     except (ExpressionError, UnitError) as exc:
         meant_an_expression = unit_problem is not None and not re.match(r"[A-Za-z%]", split_quantity(raw)[1])
         problem = as_written(str(exc), literals) if meant_an_expression or unit_problem is None else unit_problem
+        if problem is not unit_problem:
+            problem = _misspelt_unit(text, inline, scope) or problem
         raise source.error(path, f"{name}: {problem}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
         raise source.error(path, f"{name}: {unit_problem}")
-    unknown = {unit_problem.name: unit_problem} if isinstance(unit_problem, UnknownUnitError) else {}
+    unknown = {local: unit for local, (unit, _) in inline.items()}
+    unknown.update({unit_problem.name: unit_problem} if isinstance(unit_problem, UnknownUnitError) else {})
     return Entry(name, unit, None, expression, scope, source, path, bounds, literals=literals,
                  dims=parse_unit(unit) if unit and unit != GENERIC else FREE, raw=raw, unknown_units=unknown)
 

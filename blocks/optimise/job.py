@@ -12,7 +12,7 @@ A job file (YAML, ``netlists/jobs/*.yaml``) for ``vphs optimise`` and ``vphs swe
                                            # not together with a scheduler
     scheduler: tcp://10.0.0.5:8786         # optional Dask scheduler; --scheduler overrides (the workers
                                            # must read the netlist at the same path)
-    set: {V_line: "1 l"}                   # fixed overrides for every evaluation
+    set: {V_line: "1 l", Kvp: "Kv/4"}      # fixed overrides for every evaluation (an expression too)
     parameters:                            # the free parameters: qualified names, bounds, log scaling
       Kp: {min: 1, max: 30, log: true}     # log: searched evenly in decades (min > 0)
       spool.wn: {min: "40 rad/s", max: "120 rad/s"}
@@ -84,6 +84,13 @@ give a term on it a large weight, e.g. for pA <= 250 bar::
 (a soft limit: a design beyond it is not refused, but costs the more the further it goes).
 
 Values are numbers in SI or "<number> <unit>" strings, checked against the parameter's unit and bounds.
+A value of ``set:`` or of a load case may also be an expression, as the netlist's ``parameters:`` take
+(``"0.085 + m_load*0.075**2/39**2"``, ``"2*w0 + 1 rad/s"``), over the netlist's parameters by their
+qualified names. It is evaluated once, when the job is loaded, with the netlist's values and the job's plain
+values in their place (``set:``'s, and for a load case also that case's), so it may not read, itself or
+through the netlist's expressions, a parameter the job varies, one a load case sets (an expression in
+``set:``), or another expression of the same section: it would not follow them (write such an expression in
+the netlist, where it does).
 The reports, sweep.csv and the console show each free parameter in the unit the job wrote its bounds (or
 its sweep values) in; for bare numbers, in the unit the netlist writes its value in, else in SI
 (blocks.optimise.display).
@@ -459,9 +466,11 @@ class _Resolver:
         self.table = self.circuit.flat.parameters
         self.entries = self.table.entries
         name = self.name()
-        fixed = {k: self.value(k, raw, ("set", k)) for k, raw in m.set.items()}
+        varied = dict.fromkeys([*m.parameters, *(m.sweep.parameters if m.sweep else ())], "the job varies")
+        by_case = {k: f"load case {case} sets" for case, values in reversed(m.load_cases.items()) for k in values}
+        fixed = self.settings(m.set, ("set",), {}, {**by_case, **varied})
         free = [self.free_param(k, p) for k, p in m.parameters.items()]
-        cases = [(case, {k: self.value(k, raw, ("load_cases", case, k)) for k, raw in values.items()})
+        cases = [(case, self.settings(values, ("load_cases", case), fixed, varied))
                  for case, values in m.load_cases.items()] or [("nominal", {})]
         terms = [self.term(k, t) for k, t in m.cost.terms.items()]
         if not any(t.weight > 0 for t in terms):
@@ -579,14 +588,50 @@ class _Resolver:
         netlist = entry.raw if entry.expression is None and isinstance(entry.constant, float) else None
         return written_unit(*raws) or written_unit(netlist) or self.si_unit(name)
 
+    def settings(self, raws: dict, path: tuple, given: dict[str, float], changed: dict[str, str]) -> dict[str, float]:
+        """The values of ``raws`` (``set:``, or a load case's) in SI, by :meth:`value`, or for an expression
+        over the netlist's parameters (as the netlist writes one: ``"2*w0 + 1 rad/s"``) its value with the
+        netlist's values, ``given`` and the plain values of ``raws`` in their place. It is evaluated once,
+        before the job changes anything: an expression that reads, itself or through the netlist's
+        expressions, a parameter named in ``changed`` (-> what changes it), or another expression of ``raws``,
+        is refused (it would not follow; such an expression belongs in the netlist)."""
+        plain, expressions = {}, {}
+        for k, raw in raws.items():
+            where = ".".join(shown_key(p) for p in path + (k,))
+            self.entry(k, path + (k,))
+            entry = self.table.given_expression(k, raw, self.located, path + (k,), where)
+            if entry is None:
+                plain[k] = self.value(k, raw, path + (k,))
+            else:
+                expressions[k] = (entry, where)
+        try:
+            values = self.table.evaluate({**given, **plain}) if expressions else {}
+        except NetlistError as exc:
+            raise self.error(path, f"{'.'.join(path)}: with these values {exc.message}{_origin(exc)}") from None
+        for k, (entry, where) in expressions.items():
+            for read in sorted(self.table.reads(entry)):
+                why = changed.get(read) or (f"is given by an expression in {'.'.join(path)} too" if read != k and
+                                            read in expressions else None)
+                if why:
+                    raise self.error(path + (k,), f"{where}: '{raws[k]}' reads {read}, which {why}: an expression "
+                                     f"here is evaluated once, with the netlist's values; write it in the netlist")
+            plain[k] = self.checked(k, self.table.value_of(entry, values), raws[k], path + (k,))
+        return {k: plain[k] for k in raws}
+
     def value(self, name: str, raw, path: tuple) -> float:
         """A job value for parameter ``name`` in SI, its unit and bounds checked."""
-        entry = self.entry(name, path[:-1] if path[-1] in ("min", "max") else path)
+        self.entry(name, path[:-1] if path[-1] in ("min", "max") else path)
         where = ".".join(shown_key(p) for p in path)
         try:
             value = self.table.value_si(name, raw)
         except UnitError as exc:
             raise self.error(path, f"{where}: {exc}") from None
+        return self.checked(name, value, raw, path)
+
+    def checked(self, name: str, value: float, raw, path: tuple) -> float:
+        """``value`` (SI), given as ``raw`` for ``name`` at ``path``, if it is finite and inside the netlist's
+        bounds of ``name``."""
+        entry, where = self.entries[name], ".".join(shown_key(p) for p in path)
         if not math.isfinite(value):
             raise self.error(path, f"{where}: {value} is not finite")
         if entry.bounds is not None:

@@ -67,7 +67,7 @@ def test_repeats_that_cannot_give_a_noise_are_clear_errors(tmp_path):
         steady(tmp_path, ["1,20,40", "1,20,41"], q_noise="repeats")
     with pytest.raises(VphsError, match=r"the 4 repeated readings of 'p1' agree exactly; give its noise"):
         steady(tmp_path, ["1,20,40", "1,20,40", "2,20,30", "2,20,30"])
-    with pytest.raises(VphsError, match=r"no column 'run' \(the experiment's repeats:\)"):
+    with pytest.raises(VphsError, match=r"exp\.yaml:\d+:1: repeats: no column 'run' in .*data\.csv \(its columns: "):
         steady(tmp_path, ["1,20,40", "1,20,41"], repeats="run")
 
 

@@ -153,7 +153,7 @@ def test_fit_png_draws_the_fitted_values_of_both_models_against_the_data(monkeyp
     cal = _fake_calibration(kind, runs)
     report.plot_fit(cal, tmp_path / "fit.png")
     axes = drawn["fig"].axes
-    assert len(axes) == 2 * columns
+    assert len(axes) == 4 * columns  # each output's panel and its misfit's beneath (test_fit_residuals_s23.py)
     y1 = cal.data.measured["y1"] / 1e5
     first = axes[0].get_lines()  # [measured (or its error bar's line), declared, final] per group
     if kind == "time":
