@@ -92,8 +92,9 @@ FIELD_TEXT: dict[tuple[str, str], str] = {
     ("Output", "of"): "What to log: a net name (its pressure or speed; for a signal net its driving output), "
                       "`<component>.<port>`, `<component>.<state>` (scalar states), or "
                       "`<component>.<port>.flow` / `.torque` / `.force`: what the block delivers to the net at "
-                      "that port (positive into the net, the engine's sign convention); for a `speed_source`'s "
-                      "or `velocity_source`'s `port`, the torque or force the source delivers to hold the speed.",
+                      "that port (positive into the net, the engine's sign convention); for a source's `port` "
+                      "(`speed_source`, `velocity_source`, `pressure_source`, `pressure_source_signal`, `tank`), "
+                      "the torque, force or flow it delivers to hold its speed or pressure.",
     ("Output", "unit"): "The unit of the CSV column and the plot (default: the SI unit; for a generic signal, "
                         "the unit the ports reading it agree on, e.g. `1`, else `SI`). It must have the "
                         "dimension of what is logged where that is known: a net's pressure or speed, a port, "

@@ -14,7 +14,9 @@ What a speed (velocity) source delivers to its rigid body is not part of the rig
 no speed state to balance); ``observe`` computes it where it is logged: tau = M*dw/dt - F, with M the
 body's inertia and F its generalised torque as above (the source's net is the body's root, r = 1), and
 dw/dt the rate of the prescribed speed along the solution, d/dt w(t, x(t)), a central difference
-(w(t + h, x + h*dx) - w(t - h, x - h*dx))/(2h), h = 1e-6*max(1, |t|) s, dx = rhs(t, x).
+(w(t + h, x + h*dx) - w(t - h, x - h*dx))/(2h), h = 1e-6*max(1, |t|) s, dx = rhs(t, x). Likewise what a
+pressure source (a tank) delivers to its net: q = -sum(q_k), the flows the other blocks deliver to it (the
+net has no pressure state, so no volume on it is compressed).
 
 Block equations are called as numba functions with scalar arguments and inline into straight-line code,
 so a step costs what a hand-written compiled function would, not a Python loop over blocks.
@@ -256,28 +258,31 @@ class Generator:
             self.reactions.append((comp, port))
         return f"R{self.reactions.index((comp, port))}"
 
-    def _body_ports(self, body) -> list[tuple[str, int, object, bool]]:
-        """(component, index of its derivatives' value, port, capacity?) of each port on the rigid body
-        that delivers a torque (force) or stores an inertia (mass)."""
+    def _source_ports(self, source: tuple[str, str]) -> list[tuple[str, int, object, bool]]:
+        """(component, index of its derivatives' value, port, capacity?) of each port that delivers a flow,
+        torque or force to the source's net (a hydraulic one) or rigid body (a mechanical one), or stores
+        an inertia (mass) on that body. A volume on a held pressure is not read: no flow compresses it."""
         st, found = self.st, []
+        net = st.port_net[source]
+        body = st.body_of.get(net)
         for comp, flat in st.circuit.components.items():
             cls = flat.cls
             if cls.derivatives is None:
                 continue
             delivered = [(p, False) for p in cls.through_ports()] + [(p, True) for p in cls.storing_ports()]
             for k, (port, capacity) in enumerate(delivered):
-                if st.body_of.get(st.port_net[(comp, port.name)]) is body:
+                at = st.port_net[(comp, port.name)]
+                if (st.body_of.get(at) is body) if body is not None else (at == net and not capacity):
                     found.append((comp, k, port, capacity))
         return found
 
     def reaction_lines(self) -> list[str]:
-        """``observe``'s lines computing each logged source's torque (force): tau = M*dw/dt - F (module
-        docstring)."""
+        """``observe``'s lines computing what each logged source delivers: tau = M*dw/dt - F for a speed or
+        velocity source, q = -sum(q_k) for a pressure source (module docstring)."""
         if not self.reactions:
             return []
         st = self.st
-        bodies = [st.body_of[st.port_net[source]] for source in self.reactions]
-        ports = [self._body_ports(body) for body in bodies]
+        ports = [self._source_ports(source) for source in self.reactions]
         lines = ["dx = np.zeros(x.shape[0])"]  # also what a block's array state derivative is written into
         if any(capacity for found in ports for *_, capacity in found):
             n = len(self.reactions)
@@ -295,8 +300,9 @@ class Generator:
         for m, found in enumerate(ports):
             lines += [f"F_r{m} = 0.0", f"M_r{m} = 0.0"]
             for comp, k, port, capacity in found:
-                lines += self._add_to_body(st.port_net[(comp, port.name)], f"d{self.comp_index[comp]}_{k}", capacity,
-                                           f"F_r{m}", f"M_r{m}")
+                temp = f"d{self.comp_index[comp]}_{k}"
+                lines += [f"F_r{m} += {temp}"] if port.kind is PortKind.HYDRAULIC else \
+                    self._add_to_body(st.port_net[(comp, port.name)], temp, capacity, f"F_r{m}", f"M_r{m}")
             rate = f"(a_p[{m}] - a_m[{m}]) / (2.0 * h_r)" if any(c for *_, c in found) else "0.0"
             lines.append(f"R{m} = M_r{m} * {rate} - F_r{m}")
         return lines
@@ -375,7 +381,7 @@ def observe(t, x, th, y):
         if comp not in self.st.circuit.components:
             return None
         cls = self.st.circuit.components[comp].cls
-        sources = [p.name for p in cls.physical_ports() if p.name in cls.prescribes and p.kind in MECHANICAL]
+        sources = [p.name for p in cls.physical_ports() if p.name in cls.prescribes]
         ports = [p.name for p in cls.through_ports()] + sources
         if port_name not in ports:
             raise KeyError(f"'{ref}': {cls.type_name} delivers no {what} at '{port_name}' "
@@ -393,7 +399,6 @@ def observe(t, x, th, y):
 
 
 THROUGH_SUFFIX = {"flow": PortKind.HYDRAULIC, "torque": PortKind.ROTATIONAL, "force": PortKind.TRANSLATIONAL}
-MECHANICAL = (PortKind.ROTATIONAL, PortKind.TRANSLATIONAL)
 
 
 def cls_state_scalar(cls, name: str) -> bool:

@@ -16,6 +16,10 @@ class PressureSourceSignal(Block):
     unbounded: below the fluid's vapour pressure (at most, absolute vacuum: -1.013 bar gauge) it holds a
     pressure no oil can have, and the run cannot warn of it (the net has no state to check), unlike the
     constant `pressure_source`, whose p is checked against -1 bar.
+
+    The flow it delivers to the net, logged as ``<name>.port.flow`` [m^3/s], is what holds the pressure:
+    q = -sum(q_k), the flows the other blocks deliver to the net (positive: the source supplies the net; a
+    tank taking the return flow logs it negative). It is computed where it is logged, not by the solver.
     """
 
     ports = (hydraulic("port", "the net held at pressure p"), signal_in("p", "pressure to hold (gauge)", "Pa"))

@@ -12,6 +12,10 @@ class Tank(Block):
 
     An ideal pressure source: it prescribes the net's pressure (the net has no pressure state of its own)
     and absorbs or supplies any flow the rest of the net delivers.
+
+    The flow it delivers to the net, logged as ``<name>.port.flow`` [m^3/s], is what holds the pressure:
+    q = -sum(q_k), the flows the other blocks deliver to the net (positive: the source supplies the net; a
+    tank taking the return flow logs it negative). It is computed where it is logged, not by the solver.
     """
 
     ports = (hydraulic("port", "the net held at the tank pressure"),)
