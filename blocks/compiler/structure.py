@@ -373,13 +373,14 @@ def _evaluation_order(st: Structure) -> list[str]:
                             + " (each reads the other's output directly; put a dynamic block in the loop)")
 
 
-def jacobian_pattern(st: Structure):
+def jacobian_pattern(st: Structure, per_output: bool = True):
     """Which state derivatives may depend on which states, from the netlist graph and, per value a block's
     ``derivatives`` returns, the arguments that value reads (:mod:`blocks.compiler.output_reads`; a block
     it cannot read is taken whole: each state it writes reads everything it reads). The finite-difference
     Jacobian groups the columns no row shares, so a finer pattern means fewer right-hand-side calls (the
     valve's flows and its spool's own equation apart: 13018 -> 9161 calls in netlists/opt/bridge_travel.yaml)
-    and the same Jacobian, entry for entry: a value that does not read a state does not move with it."""
+    and the same Jacobian, entry for entry: a value that does not read a state does not move with it.
+    ``per_output`` False takes every block whole (bench/jacobian_pattern.py compares the two)."""
     import numpy as np
 
     n = st.n_states
@@ -430,9 +431,9 @@ def jacobian_pattern(st: Structure):
     for name, comp in st.circuit.components.items():
         if comp.cls.derivatives is None:
             continue
-        per_output = _per_output_pattern(st, name, comp.cls, port_reads, net_states)
-        if per_output is not None:
-            for writes, reads in per_output:
+        by_value = _per_output_pattern(st, name, comp.cls, port_reads, net_states) if per_output else None
+        if by_value is not None:
+            for writes, reads in by_value:
                 for w in writes:
                     for r in reads:
                         pattern[w, r] = True
