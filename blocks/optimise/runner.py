@@ -231,7 +231,8 @@ def _open(job: Job, command: str, folder: Path, resume: bool, workers, scheduler
     fingerprint = f"{job.fingerprint}-{command}"
     old = EvaluationLog.existing(folder, fingerprint, resume, job.sources)  # a foreign log, before any worker starts
     # a sweep reports every point, so each is run again at twice a fixed step; an optimisation only its best
-    executor = make_executor(job.spec(check_fixed_step=command == "sweep"), workers or job.workers, scheduler or job.scheduler, client)
+    executor = make_executor(job.spec(check_fixed_step=command == "sweep"), workers or job.workers,
+                             scheduler or job.scheduler, client)
     header = {"type": "job", "fingerprint": fingerprint, "job": str(job.file), "name": job.name,
               "command": command, "netlist": job.netlist, "seed": job.seed, "sources": job.sources,
               **header_extra(executor, old)}
