@@ -276,15 +276,24 @@ class Generator:
                     found.append((comp, k, port, capacity))
         return found
 
+    def _reaction_ports(self) -> list[list[tuple[str, int, object, bool]]]:
+        return [self._source_ports(source) for source in self.reactions]
+
+    @staticmethod
+    def _needs_rates(ports) -> bool:
+        """Whether a logged source's body stores an inertia (mass), so that its torque (force) reads the rate
+        of its prescribed speed (``prescribed``); a pressure source's flow does not."""
+        return any(capacity for found in ports for *_, capacity in found)
+
     def reaction_lines(self) -> list[str]:
         """``observe``'s lines computing what each logged source delivers: tau = M*dw/dt - F for a speed or
         velocity source, q = -sum(q_k) for a pressure source (module docstring)."""
         if not self.reactions:
             return []
         st = self.st
-        ports = [self._source_ports(source) for source in self.reactions]
+        ports = self._reaction_ports()
         lines = ["dx = np.zeros(x.shape[0])"]  # also what a block's array state derivative is written into
-        if any(capacity for found in ports for *_, capacity in found):
+        if self._needs_rates(ports):
             n = len(self.reactions)
             lines += ["rhs(t, x, th, dx)", "h_r = 1e-6 * max(1.0, abs(t))",
                       f"a_p = np.empty({n})", f"a_m = np.empty({n})", "prescribed(t + h_r, x + h_r * dx, th, a_p)",
@@ -321,7 +330,7 @@ class Generator:
 
 @njit(cache=True, error_model="numpy")
 def prescribed(t, x, th, a):
-{prescribed}""" if self.reactions else ""
+{prescribed}""" if self._needs_rates(self._reaction_ports()) else ""
         return "\n".join(self.header()) + f"""
 
 
