@@ -94,6 +94,11 @@ Slewing and trolley (eqs. 2.44-2.54)
 with X_i the horizontal coordinates of P_i above (the printed 2.47-2.49 use L1/2*cos(theta1) etc., i.e. the
 same centres without the small eta offsets). e, the distance from joint A to the slewing axis, is not
 given numerically in the text: THESIS["e"] = 0.6 m is a CHOICE (the baseplate's inner radius).
+Its slopes, for the rate dJ_S/dt = dJ_S/dtheta1*theta1_dot + dJ_S/dd2*d2_dot (block lga_slewing_load):
+with dX_i/dtheta1 = -Y_i (the arm-fixed centres; for the gripper -(Y_3 - eta3): its offset stays level)
+and dX_2/dd2 = dX_3/dd2 = cos(theta1),
+  dJ_S/dtheta1 = -2*sum_i m_i*(e + X_i)*dY_i + (J1_xi - J1_eta + J2_xi - J2_eta)*sin(2*theta1)
+  dJ_S/dd2     = 2*cos(theta1)*[m2*(e + X_2) + m3*(e + X_3)]
   n_tot = n_g*D_irg/d_p                                                       (2.52)
   J_sm = J_S/n_tot^2  (+ J_m + J_g of the motor and gearbox, which belong to them)   (2.53)
   J_tt = m_tt*r_p^2/n_g^2   (+ J_m + J_g)                                     (2.54)
@@ -330,6 +335,20 @@ def slewing_inertia(theta, d2, e, J4, g):
     return (g.m1 * (e + x1) ** 2 + j1xi * s2 + j1eta * c2
             + g.m2 * (e + x2) ** 2 + j2xi * s2 + j2eta * c2
             + g.m3 * (e + x3) ** 2 + j3eta + J4)
+
+
+@njit(cache=True)
+def slewing_inertia_slopes(theta, d2, e, g):
+    """(dJ_S/dtheta1 [kg*m^2/rad], dJ_S/dd2 [kg*m]), analytic (see the module docstring); J4 is constant."""
+    c, s = math.cos(theta), math.sin(theta)
+    x1, y1, x2, y2, x3, y3 = mass_centres(theta, d2, g)
+    j1xi, j1eta = tube_inertias(g.m1, g.S1, g.L1)
+    j2xi, j2eta = tube_inertias(g.m2, g.S2, g.L2)
+    # dX_i/dtheta = -Y_i (the centres turn with the arm; the gripper's own offset eta3 does not)
+    d_theta = (-2.0 * (g.m1 * (e + x1) * y1 + g.m2 * (e + x2) * y2 + g.m3 * (e + x3) * (y3 - g.eta3))
+               + (j1xi - j1eta + j2xi - j2eta) * 2.0 * s * c)
+    d_d2 = 2.0 * c * (g.m2 * (e + x2) + g.m3 * (e + x3))  # dX_2/dd2 = dX_3/dd2 = cos(theta1)
+    return d_theta, d_d2
 
 
 @njit(cache=True)

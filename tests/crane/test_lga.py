@@ -19,9 +19,9 @@ telescope out 0.3 m and back, all at once) simulated, and checked against
   pump fills never falls below tank pressure minus the check valves' crack (0.5 bar, table 2.10): the
   cylinder never outruns its oil. Each of these is shown to fail on a circuit that should fail it (a
   holding valve cracking below the load pressure; a pilot ratio of 20);
-- the constant slewing inertia: J_S along the simulated motion (lga_geometry on the simulated jib angle
-  and telescope extension) stays inside a range whose two ends, simulated, change the slewing axis's
-  largest error by less than 10 %.
+- the slewing inertia: J_S along the simulated motion is lga_geometry's at the simulated jib angle and
+  telescope extension, and grows as the arm reaches out (its angular momentum is checked on a circuit of
+  its own, tests/circuits/test_slewing_momentum_s24.py).
 
 Tolerances: the start-pose numbers are written to 5 significant digits in the netlist (1e-4); the table
 flows are met by round bore/rod sizes to within 3 %; the static force balance holds to 0.1 % (at rest the
@@ -120,9 +120,9 @@ def test_start_pose_numbers_agree_with_lga_geometry():
     theta0, d2 = v["theta0"], v["x2_0"]
     assert v["jib_load.d2_0"] == 0.0  # so d2 = x2
     assert v["F_jib0"] == pytest.approx(lga.jib_gravity_force(theta0, d2, GRAVITY, G), rel=1e-4)
-    j4 = lga.disc_inertia(lga.THESIS["m4"], lga.THESIS["R4"], lga.THESIS["r4"])
-    assert v["J_S0"] == pytest.approx(lga.slewing_inertia(theta0, d2, lga.THESIS["e"], j4, G), rel=1e-4)
     r = run()
+    assert r["J_S"][0] == pytest.approx(slewing_inertia(theta0, d2), rel=1e-12)
+    assert r["J_S"][0] == pytest.approx(4871.0, abs=0.5)  # the thesis's LGA at the start pose (e = 0.6 m chosen)
     assert r["jib_angle"][0] == pytest.approx(theta0, abs=1e-9)
     assert r["telescope"][0] == pytest.approx(d2, abs=1e-12)
 
@@ -213,18 +213,16 @@ def test_runaway_check_fails_with_an_overpowered_pilot():
     assert jib < P_FLOOR
 
 
-# ================================================================ the constant slewing inertia
-def test_constant_slewing_inertia_is_acceptable():
-    r = run()
-    v = values()
-    t1 = v["slew.ctrl.t1"]
-    m = window(r, t1, t1 + v["slew.ctrl.T1"])
+# ================================================================ the slewing inertia
+def slewing_inertia(theta, d2):
     j4 = lga.disc_inertia(lga.THESIS["m4"], lga.THESIS["R4"], lga.THESIS["r4"])
-    js = np.array([lga.slewing_inertia(a, b, lga.THESIS["e"], j4, G)
-                   for a, b in zip(r["jib_angle"][m], r["telescope"][m])])
-    lo, hi = 0.99 * v["J_S0"], 1.25 * v["J_S0"]
-    assert lo <= js.min() and js.max() <= hi, (js.min(), js.max())
-    worst = [np.abs(error(run((("J_S0", j),)), "slew")).max() for j in (lo, hi)]
-    nominal = np.abs(error(r, "slew")).max()
-    for w in worst:
-        assert abs(w / nominal - 1.0) < 0.10, (worst, nominal)
+    return lga.slewing_inertia(theta, d2, lga.THESIS["e"], j4, G)
+
+
+def test_slewing_inertia_follows_the_arms_pose():
+    r = run()
+    expected = np.array([slewing_inertia(a, b) for a, b in zip(r["jib_angle"], r["telescope"])])
+    assert np.allclose(r["J_S"], expected, rtol=1e-12)
+    v = values()
+    during = window(r, v["slew.ctrl.t1"], v["slew.ctrl.t1"] + v["slew.ctrl.T1"])
+    assert r["J_S"][during].max() > 1.2 * r["J_S"][0]  # the jib rises and the telescope goes out
