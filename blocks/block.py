@@ -195,6 +195,11 @@ class Block:
     """Groups of generic signal ports that carry the same quantity (a filter's input and output, a sum's
     inputs and output): the nets they join share one nominal magnitude (:mod:`blocks.compiler.signal_scale`).
     Only blocks that pass a quantity through declare it; a gain, product, integrator or table does not."""
+    checked: ClassVar[tuple[str, ...]] = ()
+    """Signals whose valid range :meth:`valid_ranges` gives, each named as an output logs it relative to
+    the block (a signal port ``u``, a port's flow ``C1.flow``): they are observed at the output samples,
+    and a run in which one leaves its range says so in a warning (a table's input beyond its breakpoints,
+    a model outside the range it was fitted on)."""
     rigid_link: ClassVar[tuple[str, str] | None] = None
     """(a, b): the two ports are joined rigidly, w_b = ratio(params) * w_a (gears, rack and pinion)."""
     outputs: ClassVar[Callable | None] = None
@@ -269,6 +274,13 @@ class Block:
         return ()
 
     @classmethod
+    def valid_ranges(cls, values: dict) -> tuple["ValidRange", ...]:
+        """Where this block's equations still describe the machine, for the signals it declares ``checked``,
+        from its parameter ``values`` by name: a table's breakpoints, a fit's data. Runs once per run, not per
+        step. A signal with no range here (this parameter set has none) is not checked."""
+        return ()
+
+    @classmethod
     def param(cls, name: str) -> Param:
         for p in cls.params:
             if p.name == name:
@@ -279,6 +291,17 @@ class Block:
     def summary(cls) -> str:
         doc = inspect.getdoc(cls) or ""
         return doc.splitlines()[0] if doc else ""
+
+
+@dataclass(frozen=True)
+class ValidRange:
+    """A checked signal's valid range [lower, upper] (SI), and what the block does outside it, as the
+    warning says it: "the table's end value is held", "the jib angle is clamped"."""
+
+    signal: str
+    lower: float
+    upper: float
+    outside: str
 
 
 def argument_names(function: Callable) -> list[str]:
@@ -336,6 +359,12 @@ def check_declarations(cls: type[Block]) -> None:
             raise TypeError(f"{owner}: a rigid link needs a ratio(...) function of parameters")
         if any(arg not in {p.name for p in cls.params} for arg in argument_names(cls.ratio)):
             raise TypeError(f"{owner}.ratio may take parameters only")
+    ports = {p.name for p in cls.ports}
+    for ref in cls.checked:
+        if ref.split(".")[0] not in ports:
+            raise TypeError(f"{owner}: checked signal '{ref}' names no port of the block")
+    if cls.checked and cls.valid_ranges.__func__ is Block.valid_ranges.__func__:
+        raise TypeError(f"{owner}: declares checked signals {list(cls.checked)} but no valid_ranges()")
     names = {p.name for p in cls.params}
     for preset, values in cls.presets.items():
         unknown = set(values) - names

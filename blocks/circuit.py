@@ -34,6 +34,7 @@ from blocks.result import Result, column_name_problem
 from blocks.solve.run import nominal_vector
 from blocks.solve.settings import SolverSettings, read_settings
 from blocks.units import GENERIC, UnitError, parse_unit
+from blocks.valid_ranges import monitors, range_warnings
 
 P_BEYOND = 1e9  # Pa (10000 bar): a pressure no hydraulic circuit reaches (Circuit._beyond_hydraulics)
 
@@ -64,13 +65,15 @@ class Circuit:
         check_signal_dimensions(flat)
         self.generator = Generator(self.structure)
         self.outputs = self._resolve_outputs()
+        self.monitors = monitors(self)  # observed after the outputs (blocks.valid_ranges)
         self.settings: SolverSettings = read_settings(flat)
         self.pattern = jacobian_pattern(self.structure)
         self.nominal = nominal_vector(self)  # each state's nominal magnitude, SI (Newton's scale)
         self.groups, self.n_groups = _colour_columns(self.pattern)
         self._timed = [(name, comp.cls) for name, comp in flat.components.items()  # blocks with breakpoints
                        if comp.cls.breakpoints.__func__ is not Block.breakpoints.__func__]
-        self.source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs])
+        self.source = self.generator.source([OutputExpr(o.name, o.expr, o.unit) for o in self.outputs]
+                                            + [OutputExpr(m.name, m.expr, m.unit) for m in self.monitors])
         self.module = None
         if compile:
             self.compile(quiet)
@@ -88,10 +91,19 @@ class Circuit:
     def from_file(cls, file: str | Path, quiet: bool = True, compile: bool = True) -> "Circuit":
         return cls(flatten(file), quiet=quiet, compile=compile)
 
+    @property
+    def n_observed(self) -> int:
+        """The values ``observe`` writes: the logged outputs, then the checked signals (:attr:`monitors`)."""
+        return len(self.outputs) + len(self.monitors)
+
     # ---- parameters -----------------------------------------------------------------------------------
     @property
     def parameter_names(self) -> list[str]:
         return list(self.flat.parameters.entries)
+
+    def block_values(self, comp: str, values: dict) -> dict:
+        """Block ``comp``'s parameters by their own names, from a run's evaluated ``values``."""
+        return {p.name: values[f"{comp}.{p.name}"] for p in self.flat.components[comp].cls.params}
 
     def vectors(self, overrides: dict[str, float] | None = None) -> Vectors:
         """Evaluate the parameter table (with ``overrides``) into theta and the initial state x0."""
@@ -105,7 +117,7 @@ class Circuit:
                 entry = self.flat.parameters.entries[f"{net}.volume"]
                 raise entry.error(f"net '{net}': volume must be positive, got {values[f'{net}.volume']:g} m^3")
         for comp_name, comp in self.flat.components.items():
-            checked = {p.name: values[f"{comp_name}.{p.name}"] for p in comp.cls.params}
+            checked = self.block_values(comp_name, values)
             checked.update({f"initial.{s.name}": values.get(f"{comp_name}.initial.{s.name}", s.start)
                             for s in comp.cls.states if s.size is None})
             problem = comp.cls.check_values(checked)
@@ -155,7 +167,7 @@ class Circuit:
         """The times at which a block's output jumps or kinks in time (:meth:`Block.breakpoints`), sorted,
         each once, from the evaluated parameters: the solver lands a step on each."""
         times = [t for name, cls in self._timed
-                 for t in cls.breakpoints({p.name: vec.values[f"{name}.{p.name}"] for p in cls.params})]
+                 for t in cls.breakpoints(self.block_values(name, vec.values))]
         return np.unique(np.array(times, dtype=float))
 
     def _ratio_value(self, body, net, values) -> float:
@@ -192,12 +204,13 @@ class Circuit:
             names=[o.name for o in self.outputs],
             units=[o.unit for o in self.outputs],
             display_units=[o.display_unit for o in self.outputs],
-            values=outcome.Y,
+            values=outcome.Y[:, :len(self.outputs)],
             states=outcome.X,
             state_names=[s.name for s in self.structure.states for _ in range(s.size)],
             stats=outcome.stats,
             seconds=elapsed,
-            warnings=self._cavitation(outcome, vec),
+            warnings=self._cavitation(outcome, vec)
+            + range_warnings(self, outcome.t, outcome.Y[:, len(self.outputs):], vec.values),
         )
         if outcome.status != 0:
             raise SimulationError(self._failure_message(outcome, vec)) from None
@@ -229,13 +242,14 @@ class Circuit:
         x_guess = np.array(vec.x0 if guess is None else guess, dtype=float)
         t_eq = self.settings.t_end if t is None else float(t)
         status, x, y, J, iterations, sinks, growth_sinks = self.module.equilibrium(
-            x_guess, vec.theta, t_eq, self.nominal, float(tol), int(max_iter), len(self.outputs))
+            x_guess, vec.theta, t_eq, self.nominal, float(tol), int(max_iter), self.n_observed)
         interrupt.check()
         sinks = np.array(sinks, dtype=bool)
         rest = ~sinks  # J is block triangular: each state that acts on nothing counts by its own slope
         growth = max(float(np.max(np.linalg.eigvals(J[np.ix_(rest, rest)]).real)) if rest.any() else -np.inf,
                      float(growth_sinks)) if status == 0 else float("nan")
-        return Equilibrium(int(status), x, y, [o.name for o in self.outputs], growth, int(iterations), sinks)
+        return Equilibrium(int(status), x, y[:len(self.outputs)], [o.name for o in self.outputs], growth,
+                           int(iterations), sinks)
 
     def _pressures(self) -> list[tuple[str, object]]:
         """Every pressure state: the hydraulic nets' and the blocks' internal pressure nodes."""
@@ -432,6 +446,10 @@ class Circuit:
             display = "bar" if unit == "Pa" else self._agreed_unit(declared) or unit
             out.append(ResolvedOutput(net.name, expr, unit, display, declared[0][1] if declared else None))
         return out
+
+    def agreed_unit(self, ref: str) -> str | None:
+        """The unit of a generic signal ``ref`` that the ports reading it agree on, if they do."""
+        return self._agreed_unit(self._declared_units(ref))
 
     @staticmethod
     def _agreed_unit(declared: list[tuple[str, str]]) -> str | None:

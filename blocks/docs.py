@@ -188,6 +188,9 @@ def block_reference(cls: type[Block], level: int = 2) -> str:
         lines.append(f"Prescribes the across variable of: {', '.join(f'`{p}`' for p in cls.prescribes)}.")
     if cls.rigid_link:
         lines.append(f"Rigid link: `{cls.rigid_link[1]}` moves at ratio(params) times `{cls.rigid_link[0]}`.")
+    if cls.checked:
+        lines.append(f"Checked after a run against its valid range (a warning if it leaves it): "
+                     f"{', '.join(f'`{c}`' for c in cls.checked)}.")
     for group in cls.same_quantity:
         lines.append(f"{', '.join(f'`{p}`' for p in group)} carry the same quantity (one tolerance scale).")
     for port, given_by in cls.signal_dimensions.items():
@@ -436,6 +439,17 @@ def file_format() -> str:
         "it may not be `t` (the time column), have spaces around it, or contain `[`, `]`, `,` or a tab. "
         "No name in a netlist (of a component, net, parameter, subsystem or output) may have spaces "
         "around it.",
+        "",
+        "Valid ranges. Some blocks know where their equations stop describing the machine (a lookup "
+        "table's breakpoints, the LGA jib's angle range): each signal such a block lists as checked is "
+        "computed at every output sample whether or not it is logged, and a run in which it leaves its range "
+        "ends with a warning, one line per signal: when it first left the range, its value furthest "
+        "outside it, and what the block does there (`table: u left its valid range (0 to 1.5) at t = "
+        "1.51 s, reaching 2 at t = 2 s; outside it the table's end value is held`). A limit of your own "
+        "(a hose's rated pressure, a motor's top speed) is a `range_check` block on the signal. The "
+        "warnings reach `vphs run`'s console, an optimisation's records and report, a sweep's report and "
+        "a calibration's verdict, as a cavity does. Between two samples nothing is seen: the check is as "
+        "fine as `dt_out`.",
         "",
         "### Simulation",
         "",

@@ -185,7 +185,7 @@ def linearise(circuit, point: OperatingPoint, inputs: list[str] | tuple = (),
         return dx
 
     def g(x, th):
-        y = np.zeros(len(out_names))
+        y = np.zeros(circuit.n_observed)
         module.observe(t, x, th, y)
         return y[rows]
 
@@ -443,7 +443,7 @@ def at_rest(model: LinearModel, point: OperatingPoint) -> bool:
 
 def logged_values(circuit, point: OperatingPoint) -> dict[str, float]:
     """The logged signals at the operating point, SI, by name."""
-    y = np.zeros(len(circuit.outputs))
+    y = np.zeros(circuit.n_observed)
     circuit.module.observe(point.t, np.asarray(point.x, dtype=float), circuit.vectors(point.overrides).theta, y)
     return {o.name: float(v) for o, v in zip(circuit.outputs, y)}
 

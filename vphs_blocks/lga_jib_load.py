@@ -2,11 +2,12 @@
 
 import math
 
-from blocks.block import Block, Param, signal_in, signal_out, translational
+from blocks.block import Block, Param, ValidRange, signal_in, signal_out, translational
 from blocks.registry import register
 from vphs_blocks.lga_geometry import (
     LGA,
     THESIS,
+    cylinder_length,
     dead_centres,
     jib_effective_mass,
     jib_effective_mass_slope,
@@ -74,7 +75,8 @@ class LgaJibLoad(Block):
 
     Outside [theta_min, theta_max] (which must not contain a dead centre, where h = 0 and m1_eff is
     infinite; checked) theta1 is clamped: mass and weight are those of the end and m' = 0. Keep the
-    cylinder's stroke inside this range (its end stops then act first).
+    cylinder's stroke inside this range (its end stops then act first); a run whose x1 leaves it (at an
+    output sample) is warned of.
     """
 
     ports = (
@@ -94,6 +96,7 @@ class LgaJibLoad(Block):
         Param("k_vel", "1", 1.0, 0.0, 1.0, "weight of the Lagrange term 1/2*m'(d1)*v^2 (1: on, 0: off)"),
         Param("g", "m/s^2", THESIS["g"], -20.0, 20.0, "gravity along +Y (down); negative for a Y-up frame"),
     ) + GEOMETRY
+    checked = ("x1",)
 
     @staticmethod
     def outputs(rod, x1, x2, d1_0, d2_0, theta_min, theta_max, g, cx, cy, bx, by, m1, xi1, eta1, S1, L1,
@@ -116,6 +119,14 @@ class LgaJibLoad(Block):
         if k_vel != 0.0 and theta_min < theta < theta_max:
             f -= 0.5 * k_vel * jib_effective_mass_slope(theta, d1, d2, geo) * rod * rod
         return f, jib_effective_mass(theta, d1, d2, geo)
+
+    @classmethod
+    def valid_ranges(cls, values: dict) -> tuple[ValidRange, ...]:
+        """x1 between the cylinder positions of theta_max and theta_min (d1 is monotonic between them)."""
+        geo = LGA(*(float(values[name]) for name in LGA._fields))
+        ends = [cylinder_length(values[end], geo) - values["d1_0"] for end in ("theta_min", "theta_max")]
+        return (ValidRange("x1", min(ends), max(ends), "the jib angle is clamped to [theta_min, theta_max]: "
+                                                       "the mass and weight of that end act"),)
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:

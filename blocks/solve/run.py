@@ -97,7 +97,7 @@ def _solve_compiled(circuit, vec, settings, t_out, stops, atol, progress) -> Out
     ``progress`` called after each. Always sliced (with or without a callback) so that a result never
     depends on whether someone watched it; each slice restarts the step-size selection (a few steps)."""
     fixed = settings.fixed_step if settings.solver == "fixed" else 0.0
-    n_obs = len(circuit.outputs)
+    n_obs = circuit.n_observed
 
     def run(x0, times):
         outcome = circuit.module.integrate(x0, vec.theta, times, stops, settings.rtol, atol, 0.0, settings.max_step,
@@ -199,7 +199,7 @@ def _solve_scipy(circuit, vec, settings, t_out, stops, atol) -> Outcome:
             x = sol.y[:, -1]
     K = len(t_out)
     X = np.full((K, n), np.nan)
-    Y = np.full((K, len(circuit.outputs)), np.nan)
+    Y = np.full((K, circuit.n_observed), np.nan)
     if pieces:
         end = pieces[-1].t[-1]
         reached = t_out <= end + 1e-12 * max(1.0, abs(end))

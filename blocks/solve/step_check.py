@@ -40,7 +40,8 @@ def doubled_step_warning(circuit, vec, settings, outcome) -> str:
     if coarse.status != 0 or not np.all(np.isfinite(coarse.Y)):
         return (f"{head}: at twice the step ({2 * step:g} s) the run fails at t = {coarse.t_reached:.4g} s; "
                 f"{advice}")
-    share, k, i = _largest_move(outcome.Y, coarse.Y)
+    logged = len(circuit.outputs)  # not the checked signals observed after them
+    share, k, i = _largest_move(outcome.Y[:, :logged], coarse.Y[:, :logged])
     if not share > FIXED_STEP_MOVE:
         return ""
     name = circuit.outputs[k].name

@@ -15,6 +15,7 @@ from blocks.library.signal import (  # noqa: F401
     product,
     profile,
     ramp,
+    range_check,
     saturation,
     second_order,
     step,

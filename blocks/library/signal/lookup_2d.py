@@ -1,6 +1,6 @@
 """Two-dimensional lookup table."""
 
-from blocks.block import Block, Param, signal_in, signal_out
+from blocks.block import Block, Param, ValidRange, signal_in, signal_out
 from blocks.library.signal.tables import check_breakpoints, check_length, interp2
 from blocks.registry import register
 
@@ -16,6 +16,8 @@ class Lookup2D(Block):
 
     x_table and y_table must be strictly increasing and z_table nx*ny long (checked by ``check_values``).
     Units: u1 and x_table in one (SI) unit, u2 and y_table in a second, y and z_table in a third.
+    Checked after a run: an input outside its breakpoints at an output sample is warned of (when, how far);
+    warn_outside = 0 says nothing.
     """
 
     ports = (
@@ -28,11 +30,21 @@ class Lookup2D(Block):
         Param("x_table", "SI", None, None, None, "breakpoints of u1, strictly increasing (SI)", array=True),
         Param("y_table", "SI", None, None, None, "breakpoints of u2, strictly increasing (SI)", array=True),
         Param("z_table", "SI", None, None, None, "grid values, row-major: z[i*ny + j] at (x[i], y[j]) (SI)", array=True),
+        Param("warn_outside", "1", 1.0, 0.0, 1.0, "1: a run whose inputs leave the grid warns; 0: it does not",
+              integer=True),
     )
+    checked = ("u1", "u2")
 
     @staticmethod
     def outputs(u1, u2, x_table, y_table, z_table):
         return (interp2(u1, u2, x_table, y_table, z_table),)
+
+    @classmethod
+    def valid_ranges(cls, values: dict) -> tuple[ValidRange, ...]:
+        if values["warn_outside"] < 0.5:
+            return ()
+        return tuple(ValidRange(port, float(breaks[0]), float(breaks[-1]), "the grid's edge value is held")
+                     for port, breaks in (("u1", values["x_table"]), ("u2", values["y_table"])) if len(breaks) > 1)
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:

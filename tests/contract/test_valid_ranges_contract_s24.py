@@ -1,0 +1,63 @@
+"""Contract of the valid ranges (blocks/valid_ranges.py), walking the registry: a block that declares
+checked signals gives, at its default point, a range for those signals only, lower <= upper, with a
+description of what it does outside; a declaration naming no port, or checked signals without
+valid_ranges(), is refused at registration."""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from blocks.block import Block, ValidRange, check_declarations, signal_in, signal_out
+from blocks import registry
+from test_registry_contract import default_params
+
+REGISTRY = registry.all_types()
+CHECKING = sorted(name for name, cls in REGISTRY.items() if cls.checked)
+
+
+def test_some_blocks_check_their_signals():
+    assert {"lookup_1d", "lookup_2d", "range_check", "lga_jib_load"} <= set(CHECKING)
+
+
+@pytest.mark.parametrize("name", CHECKING)
+def test_valid_ranges_at_the_default_point(name):
+    cls = REGISTRY[name]
+    ranges = cls.valid_ranges(default_params(cls))
+    assert ranges, f"{name}: declares {cls.checked} checked but gives no range at its defaults"
+    for r in ranges:
+        assert isinstance(r, ValidRange)
+        assert r.signal in cls.checked, f"{name}: a range for '{r.signal}', which is not declared checked"
+        assert not math.isnan(r.lower) and not math.isnan(r.upper) and r.lower <= r.upper, r
+        assert len(r.outside) > 10, f"{name}: say what the block does outside the range"
+
+
+def _throwaway(checked, with_ranges):
+    class Checked(Block):
+        """Throwaway block for the checked declarations: y = u.
+
+        y = u
+        """
+
+        ports = (signal_in("u", "input"), signal_out("y", "output"))
+
+        @staticmethod
+        def outputs(u):
+            return (u,)
+
+    Checked.checked = checked
+    if with_ranges:
+        Checked.valid_ranges = classmethod(lambda cls, values: (ValidRange("u", 0.0, 1.0, "nothing happens"),))
+    return Checked
+
+
+def test_a_checked_signal_must_name_a_port():
+    with pytest.raises(TypeError, match="checked signal 'w' names no port"):
+        check_declarations(_throwaway(("w",), True))
+
+
+def test_checked_signals_need_valid_ranges():
+    with pytest.raises(TypeError, match="no valid_ranges"):
+        check_declarations(_throwaway(("u",), False))
+    check_declarations(_throwaway(("u",), True))
