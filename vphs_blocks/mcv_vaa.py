@@ -5,7 +5,7 @@ import math
 
 from numba import njit
 
-from blocks.block import Block, Param, State, fluid_params, hydraulic
+from blocks.block import Block, Param, State, ValidRange, fluid_params, hydraulic
 from blocks.library.hydraulic.flow import smooth_max0, smooth_step, turbulent_flow
 from blocks.library.signal.linear import lowpass2_acceleration
 from blocks.registry import register
@@ -154,6 +154,9 @@ class MotionControlValveVAA(Block):
     measured multistep data gives kp ~ 850...900 bar/unit, the thesis's 895. sqrt(dp) is regularised as
     (dp^2 + dp_t^2)^(1/4); the polynomial's argument is held at q_ff_max (the fit's range, "only valid up
     to 100 l/min"). The polynomial is chosen by the parameter p_crack (a jump in parameter space only).
+    With the flow force on, a run in which the flow out of C1 or C2 (the relief flow while it meters,
+    C1.flow < 0 delivered) goes beyond q_ff_max at an output sample is warned of: there the force is the
+    fit's end value, an extrapolation the thesis did not make.
 
     Sizes (presets, table 2.8): VF050, VF150, VF250. Spring stiffnesses and the spool response are measured
     for the VF250 only (table 2.9: kp1 + kp2 = 895 bar/unit, split 495/400): they are the defaults for all
@@ -198,6 +201,7 @@ class MotionControlValveVAA(Block):
         State("u2", "1", 0.0, 1.0, "spool position of the relief valve in line 2 (C2 -> pt)"),
         State("du2", "1/s", 0.0, 10.0, "spool velocity, line 2"),
     )
+    checked = ("C1.flow", "C2.flow")
     presets = {
         # table 2.8 (check valves and relief area fitted to the data-sheet flow curves); the springs and the
         # spool response (table 2.9) are measured on the VF250 only and are the block's defaults
@@ -209,6 +213,15 @@ class MotionControlValveVAA(Block):
                   "A_cv2": "151.5 mm^2", "p_cv2_crack": "0.1 bar", "p_cv2_open": "2.5 bar",
                   "kp1": "495 bar", "kp2": "400 bar", "wn": "12 Hz", "zeta": 1.0},
     }
+
+    @classmethod
+    def valid_ranges(cls, values: dict) -> tuple[ValidRange, ...]:
+        """With the flow force on: the relief flow out of each C port within the fit's q_ff_max."""
+        if values["flow_force"] == 0.0:
+            return ()
+        held = (f"the flow force's polynomial (eq. 3.13, fitted up to q_ff_max = {values['q_ff_max'] * LPM:.4g} "
+                f"l/min of relief flow) is held at its end value")
+        return tuple(ValidRange(f"{port}.flow", -values["q_ff_max"], math.inf, held) for port in ("C1", "C2"))
 
     @classmethod
     def check_values(cls, values):
