@@ -44,7 +44,7 @@ def test_line_loss_accelerates_the_flow_by_the_unbalanced_drop():
 
 
 # ---------------------------------------------------------------- spool_relief_valve
-BASE = dict(p_set=40 * BAR, k_s=60 * BAR, A_max=60e-6, c_ff=0.0, p_fric=0.0, u_z=1e-3, du_w=1e-3, wn=2 * math.pi * 300,
+BASE = dict(p_set=40 * BAR, k_s=60 * BAR, A_max=60e-6, c_ff=0.0, p_fric=0.0, u_z=1e-3, wn=2 * math.pi * 300,
             zeta=1.0, u_w=0.01, Cd=0.7, dp_t=1e4, rho=RHO)
 
 

@@ -15,9 +15,12 @@ class Cylinder(Block):
     dx/dt = v,  position = x   [m]   (a signal, for a position controller)
 
     End stops outside [0, stroke]: with penetration d (= -x below 0, x - stroke above the stroke),
-    f_stop = +-(k_stop*d) - c_stop*v*smooth_step(d, 0, dx_stop), the spring pushing back into the
-    stroke and the damping faded in over the declared penetration dx_stop so the force stays continuous
-    at contact; f_stop = 0 inside the stroke.
+    f_stop = max(0, k_stop*d - c_stop*v*smooth_step(d, 0, dx_stop))    below 0
+    f_stop = min(0, -k_stop*d - c_stop*v*smooth_step(d, 0, dx_stop))   above the stroke
+    the spring pushing back into the stroke and the damping faded in over the declared penetration dx_stop
+    so the force stays continuous at contact; f_stop = 0 inside the stroke. A stop can only push: while the
+    piston leaves it faster than the spring relaxes (v > k_stop/c_stop*d), the damping would pull the
+    piston back into it, and the force is 0 instead.
 
     Sign convention: x and v = rod velocity are positive when the rod extends (chamber A grows). The
     chambers are the capacities this block stores on nets A and B; the flows are what the moving piston
@@ -65,8 +68,8 @@ class Cylinder(Block):
         f = A * A_A - B * A_B
         if x < 0.0:
             d = -x
-            f += k_stop * d - c_stop * rod * smooth_step(d, 0.0, dx_stop)
+            f += max(0.0, k_stop * d - c_stop * rod * smooth_step(d, 0.0, dx_stop))
         elif x > stroke:
             d = x - stroke
-            f += -k_stop * d - c_stop * rod * smooth_step(d, 0.0, dx_stop)
+            f += min(0.0, -k_stop * d - c_stop * rod * smooth_step(d, 0.0, dx_stop))
         return -A_A * rod, A_B * rod, f, V0_A + A_A * xc, V0_B + A_B * (stroke - xc), rod

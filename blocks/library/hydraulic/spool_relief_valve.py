@@ -39,7 +39,7 @@ class SpoolReliefValve(Block):
     p_F  = c_ff*s*dp                                        steady flow force over the spool area [Pa]
     u_eq = (dp - p_set - p_F - p_fric*z)/k_s                 spool balance, all forces over the spool area
     u''  = wn^2*(sat(u_eq) - u) - 2*zeta*wn*u'              spool dynamics (as the MCV's, thesis fig. 2.17)
-    z'   = (u'/u_z)*(1 - z*u'/sqrt(u'^2 + du_w^2))          Dahl friction state, |z| <= 1
+    z'   = (u' - z*|u'|)/u_z                                 Dahl friction state, |z| <= 1
 
     The spring (preload p_set = the crack pressure, stiffness k_s per unit stroke) holds the spool shut
     until dp exceeds p_set. The steady flow force is the classical 2*Cd*Cv*A(x)*dp*cos(theta) divided by
@@ -49,7 +49,10 @@ class SpoolReliefValve(Block):
     The spool friction is Dahl's model: the friction pressure p_fric*z follows the spool motion over a
     pre-sliding stroke u_z and stays where it is when the spool stops, so a spool that came to rest going
     up sits p_fric/k_s lower than without friction and one going down p_fric/k_s higher: a hysteresis of
-    width 2*p_fric in dp. sign(u') is smoothed as u'/sqrt(u'^2 + du_w^2) (declared width du_w).
+    width 2*p_fric in dp. The law is Dahl's exact one, (u'/u_z)*(1 - z*sign(u')): |z| <= 1 holds from any
+    start inside it, z settles at sign(u') while the spool moves and stays put when it stops. (A smoothed
+    sign, u'/sqrt(u'^2 + w^2), would settle at sqrt(u'^2 + w^2)/u' > 1: at a spool speed below w the
+    friction grew without bound, and on a slow pressure ramp the valve stayed shut far above its setting.)
     Pressures are gauge; u, z dimensionless; k_s, p_set, p_fric in Pa (force over the spool area).
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.
@@ -63,7 +66,6 @@ class SpoolReliefValve(Block):
         Param("c_ff", "1", 0.0, -1.0, 1.0, "steady flow-force ratio: p_F = c_ff*s*dp (> 0 closes)"),
         Param("p_fric", "Pa", 0.0, 0.0, 1e9, "Coulomb friction of the spool over the spool area (Dahl model)"),
         Param("u_z", "1", 1e-3, 1e-9, 1.0, "pre-sliding stroke of the Dahl friction (regularisation width)"),
-        Param("du_w", "1/s", 1e-3, 1e-12, 1e3, "spool speed width of the smoothed sign in the Dahl model"),
         Param("wn", "rad/s", 2.0 * math.pi * 50.0, 1e-3, 1e6, "natural angular frequency of the spool"),
         Param("zeta", "1", 1.0, 0.0, 10.0, "damping ratio of the spool"),
         Param("u_w", "1", 0.01, 0.0, 0.25, "width of the rounded corners of the stroke limits (regularisation)"),
@@ -77,11 +79,11 @@ class SpoolReliefValve(Block):
     )
 
     @staticmethod
-    def derivatives(a, b, u, du, z, p_set, k_s, A_max, c_ff, p_fric, u_z, du_w, wn, zeta, u_w, Cd, dp_t, rho):
+    def derivatives(a, b, u, du, z, p_set, k_s, A_max, c_ff, p_fric, u_z, wn, zeta, u_w, Cd, dp_t, rho):
         dp = a - b
         s = rounded_unit(u, u_w)
         q = turbulent_flow(dp, A_max * s, Cd, rho, dp_t)
         p_F = c_ff * s * dp
         u_eq = rounded_unit((dp - p_set - p_F - p_fric * z) / k_s, u_w)
-        der_z = du / u_z * (1.0 - z * du / math.sqrt(du * du + du_w * du_w))
+        der_z = (du - z * abs(du)) / u_z
         return -q, q, du, lowpass2_acceleration(u_eq, u, du, wn, zeta), der_z
