@@ -209,6 +209,17 @@ def theta1_dot(d1, d1_dot, theta, g):
     return d1_dot * d1 / lever(theta, g)
 
 
+@njit(cache=True)
+def jib_pose(d1, g, lo, hi):
+    """(theta1, d1, k1) for a cylinder length d1: theta1 solved in [lo, hi] and k1 = dtheta1/dd1 = d1/h
+    [rad/m]; outside the range theta1 is clamped to the nearer end, d1 is the end's own length and k1 = 0
+    (the jib does not turn)."""
+    theta = theta1_from_d1(d1, g, lo, hi)
+    if lo < theta < hi:
+        return theta, d1, theta1_dot(d1, 1.0, theta, g)
+    return theta, cylinder_length(theta, g), 0.0
+
+
 def dead_centres(g) -> tuple[float, float]:
     """The two angles in (-pi, pi] where h = 0 (the cylinder's line passes through A), ascending [rad]."""
     p = g.bx * g.cx + g.by * g.cy  # h = p*sin(theta) + q*cos(theta)

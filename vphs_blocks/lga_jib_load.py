@@ -12,8 +12,7 @@ from vphs_blocks.lga_geometry import (
     jib_effective_mass,
     jib_effective_mass_slope,
     jib_gravity_force,
-    theta1_dot,
-    theta1_from_d1,
+    jib_pose,
 )
 
 # The LGA's geometry and masses, shared with lga_geometry.LGA (defaults: the thesis's LGA, section 2.8).
@@ -49,7 +48,8 @@ class LgaJibLoad(Block):
     d1 = d1_0 + x1,  d2 = d2_0 + x2,  theta1 = f1(d1) solved from eq. 2.31 (clamped to [theta_min, theta_max])
     m_rod = m1_eff = J_A(theta1, d2)*(d1/h(theta1))^2                         [kg]   (2.61, 2.35)
     f_rod = -Fc1(theta1, d2) - k_vel*1/2*dm1_eff/dd1*v^2                      [N]    (2.64; Lagrange)
-    outputs: theta1 [rad], w1 = theta1_dot = v*d1/h [rad/s] (2.35), m_eff [kg], F_g = Fc1 [N]
+    outputs: theta1 [rad], w1 = theta1_dot = k1*v [rad/s] (2.35), m_eff [kg], F_g = Fc1 [N],
+             k1 = dtheta1/dd1 = d1/h [rad/m] (the jib angle per metre of cylinder; lga_slewing_load reads it)
 
     All the geometry (joints B and C, eq. 2.30; h = d1*dd1/dtheta1 = C1 cos + C2 sin, eq. 2.33; J_A from
     eqs. 2.55-2.58; Fc1 = X_G*(m1+m2+m3)*g/(R_cy cos theta2 - R_cx sin theta2), theta2 the cylinder axis
@@ -74,9 +74,9 @@ class LgaJibLoad(Block):
     the thesis neglects centripetal forces.
 
     Outside [theta_min, theta_max] (which must not contain a dead centre, where h = 0 and m1_eff is
-    infinite; checked) theta1 is clamped: mass and weight are those of the end and m' = 0. Keep the
-    cylinder's stroke inside this range (its end stops then act first); a run whose x1 leaves it (at an
-    output sample) is warned of.
+    infinite; checked) theta1 is clamped: mass and weight are those of the end (at the end's d1), m' = 0,
+    and the jib does not turn (k1 = w1 = 0). Keep the cylinder's stroke inside this range (its end stops
+    then act first); a run whose x1 leaves it (at an output sample) is warned of.
     """
 
     ports = (
@@ -87,6 +87,7 @@ class LgaJibLoad(Block):
         signal_out("w1", "jib angular speed theta1_dot", "rad/s"),
         signal_out("m_eff", "effective mass on the rod", "kg"),
         signal_out("F_g", "gravity force Fc1 on the cylinder, > 0 compressing", "N"),
+        signal_out("k1", "dtheta1/dd1: jib angle per cylinder extension (0 where clamped)", "rad/m"),
     )
     params = (
         Param("d1_0", "m", None, 0.0, 20.0, "jib cylinder length |BC| at x1 = 0 (the assembly's cylinder)"),
@@ -102,21 +103,18 @@ class LgaJibLoad(Block):
     def outputs(rod, x1, x2, d1_0, d2_0, theta_min, theta_max, g, cx, cy, bx, by, m1, xi1, eta1, S1, L1,
                 m2, xi2, eta2, S2, L2, eta_cs2, m3, xi3, eta3, a3, b3, c3):
         geo = LGA(cx, cy, bx, by, m1, xi1, eta1, S1, L1, m2, xi2, eta2, S2, L2, eta_cs2, m3, xi3, eta3, a3, b3, c3)
-        d1 = d1_0 + x1
         d2 = d2_0 + x2
-        theta = theta1_from_d1(d1, geo, theta_min, theta_max)
-        return (theta, theta1_dot(d1, rod, theta, geo), jib_effective_mass(theta, d1, d2, geo),
-                jib_gravity_force(theta, d2, g, geo))
+        theta, d1, k1 = jib_pose(d1_0 + x1, geo, theta_min, theta_max)
+        return theta, k1 * rod, jib_effective_mass(theta, d1, d2, geo), jib_gravity_force(theta, d2, g, geo), k1
 
     @staticmethod
     def derivatives(rod, x1, x2, d1_0, d2_0, theta_min, theta_max, k_vel, g, cx, cy, bx, by, m1, xi1, eta1,
                     S1, L1, m2, xi2, eta2, S2, L2, eta_cs2, m3, xi3, eta3, a3, b3, c3):
         geo = LGA(cx, cy, bx, by, m1, xi1, eta1, S1, L1, m2, xi2, eta2, S2, L2, eta_cs2, m3, xi3, eta3, a3, b3, c3)
-        d1 = d1_0 + x1
         d2 = d2_0 + x2
-        theta = theta1_from_d1(d1, geo, theta_min, theta_max)
+        theta, d1, k1 = jib_pose(d1_0 + x1, geo, theta_min, theta_max)
         f = -jib_gravity_force(theta, d2, g, geo)
-        if k_vel != 0.0 and theta_min < theta < theta_max:
+        if k_vel != 0.0 and k1 != 0.0:
             f -= 0.5 * k_vel * jib_effective_mass_slope(theta, d1, d2, geo) * rod * rod
         return f, jib_effective_mass(theta, d1, d2, geo)
 

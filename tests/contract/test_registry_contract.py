@@ -55,6 +55,9 @@ PLAUSIBLE: dict[str, dict[str, float | tuple]] = {
     "transfer_function_strict": {"num": (1.0, 2.0), "den": (1.0, 3.0, 2.0)},
     # p_open > p_set is required (the bounds cannot say it): the generic 1 Pa, 1 Pa would be a bare step
     "relief_valve": {"p_set": 30e5, "p_open": 40e5},
+    # the generic d1_0 = 1 m gives a cylinder shorter than the jib's angle range allows (2.2 ... 3.0 m): clamped,
+    # the jib would not turn and its speed would move no output
+    "lga_jib_load": {"d1_0": 2.1},
 }
 DEFAULT_TABLE = (0.0, 1.0, 2.0)  # an array parameter nobody chose a value for: strictly increasing
 

@@ -1,6 +1,6 @@
 """Contract of the valid ranges (blocks/valid_ranges.py), walking the registry: a block that declares
-checked signals gives, at its default point, a range for those signals only, lower <= upper, with a
-description of what it does outside; a declaration naming no port, or checked signals without
+checked signals gives, at its default point (or where a parameter turns its ranges on), a range for each of
+those signals and for no other, lower <= upper, with a description of what it does outside; a declaration naming no port, or checked signals without
 valid_ranges(), is refused at registration."""
 
 from __future__ import annotations
@@ -15,6 +15,8 @@ from test_registry_contract import default_params
 
 REGISTRY = registry.all_types()
 CHECKING = sorted(name for name, cls in REGISTRY.items() if cls.checked)
+# Blocks whose ranges apply only with a parameter set otherwise than by default, and the setting
+WITH_RANGES = {"mcv_vaa": {"flow_force": 1.0}}  # the flow-force fit's range, with the flow force on
 
 
 def test_some_blocks_check_their_signals():
@@ -24,8 +26,9 @@ def test_some_blocks_check_their_signals():
 @pytest.mark.parametrize("name", CHECKING)
 def test_valid_ranges_at_the_default_point(name):
     cls = REGISTRY[name]
-    ranges = cls.valid_ranges(default_params(cls))
+    ranges = cls.valid_ranges(default_params(cls) | WITH_RANGES.get(name, {}))
     assert ranges, f"{name}: declares {cls.checked} checked but gives no range at its defaults"
+    assert {r.signal for r in ranges} == set(cls.checked), f"{name}: a checked signal without a range"
     for r in ranges:
         assert isinstance(r, ValidRange)
         assert r.signal in cls.checked, f"{name}: a range for '{r.signal}', which is not declared checked"

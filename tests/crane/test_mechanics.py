@@ -261,15 +261,17 @@ def test_jib_load_block_equations():
     assert 0.5 * slope * v * v > 1e-3 * fc1  # the term is visible here (0.45 % of the weight at 64.5 deg, 0.07 m/s)
     f0, _ = call(LgaJibLoad.derivatives, {**values, "k_vel": 0.0})
     assert f0 == pytest.approx(-fc1, rel=1e-12)
-    theta_out, w1, m_eff, f_g = call(LgaJibLoad.outputs, values)
+    theta_out, w1, m_eff, f_g, k1 = call(LgaJibLoad.outputs, values)
     assert theta_out == pytest.approx(theta, abs=1e-12)
     assert w1 == pytest.approx(v * d1 / lever_thesis(theta), rel=1e-12)
+    assert k1 == pytest.approx(d1 / lever_thesis(theta), rel=1e-12)
     assert (m_eff, f_g) == (pytest.approx(m, rel=1e-12), pytest.approx(fc1, rel=1e-12))
-    # beyond the range: the end's mass and weight, no Lagrange term
+    # beyond the range: the end's mass (at the end's own d1) and weight, no Lagrange term, no turning
     beyond = {**values, "x1": 1.0}  # d1 = 3.3 m > d1(0) = 2.985 m
     f_b, m_b = call(LgaJibLoad.derivatives, beyond)
-    assert call(LgaJibLoad.outputs, beyond)[0] == 0.0
-    assert m_b == pytest.approx(lga.jib_effective_mass(0.0, 3.3, d2, G), rel=1e-12)
+    theta_b, w1_b, m_eff_b, _, k1_b = call(LgaJibLoad.outputs, beyond)
+    assert (theta_b, w1_b, k1_b) == (0.0, 0.0, 0.0)
+    assert m_b == m_eff_b == pytest.approx(lga.jib_effective_mass(0.0, d1_thesis(0.0), d2, G), rel=1e-12)
     assert f_b == pytest.approx(-lga.jib_gravity_force(0.0, d2, GRAV, G), rel=1e-12)
 
 
