@@ -349,21 +349,24 @@ class DaskExecutor:
     def run(self, designs: list[dict]) -> Iterator[tuple[int, dict]]:
         from distributed import as_completed
 
-        tasks, futures = {}, []  # future key -> (design, load case, the spec copy it was given)
+        # future key -> (design, load case, the spec copy it was given), and the futures not yet read: a future
+        # is dropped as soon as it is read, so that the cluster forgets its task and result then, not at the end
+        # of the batch (a sweep is one batch of all its points)
+        tasks, unread = {}, {}
         losses: dict[tuple[int, int], int] = {}
 
         def submit(i: int, k: int, lost_with=None):
             spec = self._spec_for(lost_with)
             future = self.client.submit(evaluate_case, spec, designs[i], k, pure=False)
-            tasks[future.key] = (i, k, spec)
-            futures.append(future)
+            tasks[future.key], unread[future.key] = (i, k, spec), future
             return future
 
         pending = as_completed([submit(i, k) for i in range(len(designs)) for k in range(len(self.spec.cases))])
         assembler = _Assembler(self.spec, len(designs))
         try:
             for future in pending:
-                i, k, spec = tasks[future.key]
+                i, k, spec = tasks.pop(future.key)
+                del unread[future.key]
                 try:
                     part = future.result()
                 except Exception as exc:  # evaluate_case never raises: the cluster lost the task, not the design
@@ -376,11 +379,13 @@ class DaskExecutor:
                         raise EvaluationLost(f"{lost.replace('this', 'an')}, and does not answer a probe either; it "
                                              f"is not a failure of the design and was not logged") from None
                     part = _failed_case(self.spec, k, f"{lost}, while it answers others: its worker dies running it")
+                finally:
+                    del future  # the last reference to a task that is read: the cluster releases it
                 record = assembler.add(i, part)
                 if record is not None:
                     yield i, record
         finally:
-            for future in futures:
+            for future in unread.values():
                 future.cancel()
 
     def _answers(self, timeout: float = 60.0) -> bool:
