@@ -23,8 +23,11 @@ again with it (:func:`blocks.optimise.report.write_optimise_report`). A sweep re
 point is checked.
 
 The circuit is loaded once per process (``Circuit.from_file``; compiled code comes from the disk cache)
-and kept for every later evaluation in that process; a lock makes a worker with several threads run one
-simulation at a time.
+and kept for every later evaluation in that process, under the digests of the files it is built from as
+the job read them (``Job.sources``): a worker that outlives a job (a Dask cluster, a Python session) builds
+the circuit again when a later job's netlist or one of its files has changed, and a file changed between
+the job's start and a worker's first load fails that evaluation with a message rather than evaluating the
+design on another circuit. A lock makes a worker with several threads run one simulation at a time.
 """
 
 from __future__ import annotations
@@ -34,11 +37,13 @@ import os
 import threading
 import time
 from dataclasses import dataclass
+from pathlib import Path
 
 from blocks.errors import VphsError
 from blocks.optimise.costs import Term, combine, evaluate_term
 
-_CIRCUITS: dict[str, object] = {}
+_CIRCUITS: dict[tuple, object] = {}  # (netlist, its files' digests) -> circuit, the most recent last
+_KEPT = 4  # circuits a process keeps (each job's own)
 _LOCK = threading.Lock()
 
 
@@ -51,15 +56,27 @@ class EvalSpec:
     combine: str = "sum"
     penalty: float = 1e9
     check_fixed_step: bool = False  # solver fixed: run each simulation again at twice the step (a sweep's)
+    sources: tuple[tuple[str, str], ...] = ()  # every file the circuit is built from -> its digest (Job.sources)
 
 
-def circuit_for(netlist: str):
-    """The compiled circuit of ``netlist``, loaded once per process."""
-    circuit = _CIRCUITS.get(netlist)
+def circuit_for(netlist: str, sources: tuple[tuple[str, str], ...] = ()):
+    """The compiled circuit of ``netlist`` whose files have the digests ``sources`` (none given: as the
+    files are now), loaded once per process; a file that no longer has its digest is a :class:`VphsError`."""
+    key = (netlist, sources)
+    circuit = _CIRCUITS.pop(key, None)
     if circuit is None:
         from blocks.circuit import Circuit
+        from blocks.optimise.job import source_digests
 
-        circuit = _CIRCUITS[netlist] = Circuit.from_file(netlist)
+        circuit = Circuit.from_file(netlist)
+        now = source_digests(circuit.flat.files, Path(netlist).resolve().parent)
+        changed = sorted(name for name, digest in sources if now.get(name) != digest)
+        if changed:
+            raise VphsError(f"{netlist}: {', '.join(changed)} changed since the job read it: this design would be "
+                            f"evaluated on another circuit than the others; start the job again")
+    _CIRCUITS[key] = circuit  # the most recent last
+    while len(_CIRCUITS) > _KEPT:
+        del _CIRCUITS[next(iter(_CIRCUITS))]
     return circuit
 
 
@@ -79,7 +96,7 @@ def evaluate_case(spec: EvalSpec, design: dict[str, float], k: int) -> dict:
     part = {"case": name, "terms": None, "cost": None, "error": None, "warnings": [], "pid": os.getpid()}
     with _LOCK:
         try:
-            circuit = circuit_for(spec.netlist)
+            circuit = circuit_for(spec.netlist, spec.sources)
             settings = None if spec.check_fixed_step else circuit.settings.with_(fixed_step_check=False)
             result = circuit.simulate(case_overrides(spec, design, spec.cases[k]), settings=settings)
         except VphsError as exc:  # SimulationError, ParameterError, NetlistError

@@ -343,7 +343,8 @@ class Job:
 
         return EvalSpec(self.netlist, tuple(self.fixed.items()),
                         tuple((name, tuple(values.items())) for name, values in self.cases),
-                        tuple(self.terms), self.combine, self.penalty, check_fixed_step)
+                        tuple(self.terms), self.combine, self.penalty, check_fixed_step,
+                        tuple(sorted(self.sources.items())))
 
 
 def load_job(file: str | Path) -> Job:

@@ -299,12 +299,16 @@ def _convergence_plot(records: list[dict], path: Path, title: str) -> None:
 
 
 def _resimulate(job, parameters: dict) -> dict:
-    """The best design's runs, per load case (None for a case that fails now)."""
+    """The best design's runs, per load case (None for a case that fails now, or for every case when a file
+    of the netlist has changed since the job read it)."""
     from blocks.errors import VphsError
     from blocks.optimise.evaluate import case_overrides, circuit_for
 
     spec = job.spec()
-    circuit = circuit_for(job.netlist)
+    try:
+        circuit = circuit_for(job.netlist, spec.sources)
+    except VphsError:
+        return {case[0]: None for case in spec.cases}
     out = {}
     for case in spec.cases:
         try:
