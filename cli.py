@@ -447,12 +447,11 @@ def cmd_run(args) -> int:
     for warning in result.warnings:
         print(f"vphs: warning: {warning}", file=sys.stderr)
     if not args.output:
-        sys.stdout.write(result.to_csv_text())
+        result.write_csv_into(sys.stdout)
     if args.output and args.plot:  # both or neither: never a CSV of this run beside a plot of the last
         from blocks.result import write_together
 
-        text = result.to_csv_text()
-        write_together((Path(args.output), lambda tmp: tmp.write_text(text, encoding="utf-8")),
+        write_together((Path(args.output), result.write_csv_file),
                        (Path(args.plot), lambda tmp: result.plot(tmp, x=args.x, y=args.y)))
     elif args.output:
         result.write_csv(args.output)

@@ -45,6 +45,9 @@ def column_name_problem(name: str) -> str | None:
     return None
 
 
+CSV_ROWS = 4096  # rows formatted and written at a time
+
+
 @dataclass
 class Result:
     file: str
@@ -76,18 +79,30 @@ class Result:
     def state(self, name: str) -> np.ndarray:
         return self.states[:, self.state_names.index(name)]
 
-    def to_csv_text(self) -> str:
-        buffer = io.StringIO()
-        writer = csv.writer(buffer, lineterminator="\n")
+    def write_csv_into(self, stream) -> None:
+        """The CSV into a text ``stream``: a header ``t [s]``, then ``name [unit]`` for each logged signal, and
+        the values in those units to 10 significant digits, CSV_ROWS rows at a time (a long run's table is
+        never held whole as text)."""
+        writer = csv.writer(stream, lineterminator="\n")
         writer.writerow([f"{TIME_COLUMN} [s]"] + [f"{n} [{u}]" for n, u in zip(self.names, self.display_units)])
         factors = np.array([parse_unit(u).factor for u in self.display_units])
-        table = np.column_stack([self.t, self.values / factors]) if self.names else self.t[:, None]
-        for row in table:
-            writer.writerow([f"{v:.10g}" for v in row])
+        for a in range(0, len(self.t), CSV_ROWS):
+            t = self.t[a:a + CSV_ROWS]
+            block = np.column_stack([t, self.values[a:a + CSV_ROWS] / factors]) if self.names else t[:, None]
+            writer.writerows([f"{v:.10g}" for v in row] for row in block)
+
+    def to_csv_text(self) -> str:
+        buffer = io.StringIO()
+        self.write_csv_into(buffer)
         return buffer.getvalue()
 
+    def write_csv_file(self, path: Path) -> None:
+        """The CSV written straight into the file ``path`` (replaced)."""
+        with Path(path).open("w", encoding="utf-8", newline="") as stream:
+            self.write_csv_into(stream)
+
     def write_csv(self, path: str | Path) -> None:
-        atomic_write_text(Path(path), self.to_csv_text())
+        write_together((Path(path), self.write_csv_file))
 
     def plot(self, path: str | Path, title: str | None = None, x: str | None = None,
              y: list[str] | None = None) -> None:
