@@ -60,6 +60,7 @@ from blocks.calibrate.experiment import Experiment, Free
 from blocks.errors import SimulationError, VphsError
 from blocks.netlist.parameters import ParameterError
 
+CACHE_BYTES = 256e6  # the simulated signals a model keeps for parameter vectors it meets again, at most
 FAILED_RESIDUAL = 1e3
 """Normalised residual given to every row of a point whose simulation failed (or was refused)."""
 
@@ -147,6 +148,7 @@ class Model:
         self.signal_index = {o.name: k for k, o in enumerate(circuit.outputs)}
         self.traces = self._traces(globals_)
         self._cache: dict = {}
+        self._cache_bytes = 0
         self.unsettled: set[int] = set()
         self.run_end: dict[int, float] = {}  # steady point -> the end time of its lengthened settling run
         self._length_fixed: set[int] = set()  # steady points whose run length is decided
@@ -385,16 +387,24 @@ class Model:
             values, settled = self._steady_values(k, over)
         except (SimulationError, ParameterError, VphsError) as exc:
             self.failures.append(f"point {k + 1}: {exc}")
-            self._cache[key] = None
+            self._remember(key, None, 200_000)
             return None
         if not settled:
             self.unsettled.add(k)
         else:
             self.unsettled.discard(k)
-        self._cache[key] = values
-        if len(self._cache) > 200_000:
-            self._cache.clear()
+        self._remember(key, values, 200_000)
         return values
+
+    def _remember(self, key, value: np.ndarray | None, most: int) -> None:
+        """Keep a point's or a run's signals under ``key``; the cache is emptied beyond ``most`` entries or
+        CACHE_BYTES of arrays (a run's entry is samples x signals x 8 bytes: 100 s at 1 kHz of 5 signals is 4 MB,
+        and 2000 of those would be 8 GB)."""
+        self._cache[key] = value
+        self._cache_bytes += 0 if value is None else value.nbytes
+        if len(self._cache) > most or self._cache_bytes > CACHE_BYTES:
+            self._cache.clear()
+            self._cache_bytes = 0
 
     def signals(self, x: np.ndarray, points=None) -> np.ndarray:
         """Every logged signal (columns, SI) at every point or data sample (rows); NaN where a run failed."""
@@ -455,13 +465,11 @@ class Model:
             result = self._run(over)
         except (SimulationError, ParameterError, VphsError) as exc:
             self.failures.append(str(exc) if len(self.runs) == 1 else f"run {label}: {exc}")
-            self._cache[key] = out
+            self._remember(key, out, 2000)
             return out
         for j in range(out.shape[1]):
             out[:, j] = np.interp(self.data.t[idx], result.t, result.values[:, j])
-        self._cache[key] = out
-        if len(self._cache) > 2000:
-            self._cache.clear()
+        self._remember(key, out, 2000)
         return out
 
     def predictions(self, x: np.ndarray, points=None) -> np.ndarray:
