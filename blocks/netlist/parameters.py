@@ -31,6 +31,10 @@ from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, UnknownUnitError,
 FREE = None  # dimension of a bare number: adapts to its place
 
 
+EVALUATED_ONCE = "an expression here is evaluated once, with the netlist's values; write it in the netlist"
+"""Why an expression given from outside the netlist may not read what changes (:meth:`ParameterTable.given_values`)."""
+
+
 class ParameterError(VphsError):
     """An override (from an optimiser, a job or --set) that the parameter does not accept."""
 
@@ -221,13 +225,18 @@ class ParameterTable:
         A unit no reader constrains (a bare number put only where any unit goes) is converted unchecked.
         An array (a table) takes no single value, and the value must be finite. Raises UnitError (no
         location: the caller names where the value was given)."""
+        self.check_single(name)
         entry = self.entries[name]
-        if entry.elements is not None or isinstance(entry.constant, tuple) or getattr(entry.bounds, "array", False):
-            raise UnitError(f"{name} is an array (a table); change it in the netlist")
         value = self._si(name, entry, raw)
         if not np.isfinite(value):
             raise UnitError(f"{raw!r} is not a finite number")
         return value
+
+    def check_single(self, name: str) -> None:
+        """Raise UnitError if ``name`` is an array (a table): no single value given from outside replaces it."""
+        entry = self.entries[name]
+        if entry.elements is not None or isinstance(entry.constant, tuple) or getattr(entry.bounds, "array", False):
+            raise UnitError(f"{name} is an array (a table); change it in the netlist")
 
     def _si(self, name: str, entry: Entry, raw) -> float:
         if entry.unit not in (None, GENERIC):
@@ -274,8 +283,9 @@ class ParameterTable:
             raise entry.error(f"{label}: wrong unit: '{raw}' is in {dims.describe_dims()}, but {problem}")
         return entry
 
-    def reads(self, entry: Entry) -> set[str]:
-        """The names ``entry``'s value depends on: those it reads, and through their expressions theirs."""
+    def reads(self, entry: Entry, held=()) -> set[str]:
+        """The names ``entry``'s value depends on: those it reads, and through their expressions theirs, except
+        through the names ``held`` at a value given for them (whose expressions in the netlist are not read)."""
         found, todo = set(), [entry]
         while todo:
             reader = todo.pop()
@@ -283,12 +293,33 @@ class ParameterTable:
                 target = reader.scope[local]  # order() checked the scope
                 if target not in found:
                     found.add(target)
-                    todo.append(self.entries[target])
+                    if target not in held:
+                        todo.append(self.entries[target])
         return found
 
     def value_of(self, entry: Entry, values: dict[str, float | tuple]) -> float | tuple:
         """The value of an entry not in the table (:meth:`given_expression`) from the table's ``values``."""
         return self._value(entry, values)
+
+    def given_values(self, expressions: dict[str, Entry], values: dict[str, float | tuple], held,
+                     changed: dict[str, str], section: str) -> dict[str, float | tuple]:
+        """The values of the expressions a section given from outside the netlist holds (a job's ``set:``, an
+        experiment's ``overrides:``, the ``--set`` options; each by the name it sets, from
+        :meth:`given_expression`), from the table's ``values`` (:meth:`evaluate` with the names ``held`` at
+        the section's plain values, and at those it is given on top of). Each is evaluated once, so one that
+        reads, itself or through the netlist's expressions, a name in ``changed`` (-> what changes it: 'the job
+        varies') or another expression of ``expressions`` would not follow it, and is refused, located where
+        it was given. Its own name is no such read: there it reads the netlist's value (``p_set: "p_set + 10
+        bar"``); nor is what the netlist's expression of a held name reads."""
+        found = {}
+        for name, entry in expressions.items():
+            for read in sorted(self.reads(entry, held)):
+                why = changed.get(read) or (f"is given by an expression in {section} too"
+                                            if read != name and read in expressions else None)
+                if why:
+                    raise entry.error(f"{entry.name}: '{entry.written}' reads {read}, which {why}: {EVALUATED_ONCE}")
+            found[name] = self.value_of(entry, values)
+        return found
 
     def unit_conflict(self, name: str, given: Unit) -> str | None:
         """Why a value of ``name`` in the dimension ``given`` cannot be one, where the netlist gives ``name`` no
