@@ -25,8 +25,9 @@ import numpy as np
 from blocks.errors import NetlistError, VphsError
 from blocks.expressions import Expression, ExpressionError, dotted_name, parse_expression
 from blocks.netlist.yaml_source import Located
-from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, UnknownUnitError, decimal_comma, did_you_mean, nearest,
-                          parse_unit, quantity, quantity_name, si_name, split_quantity, substitute_quantities)
+from blocks.units import (_QUANTITY, GENERIC, UNSPACED_QUANTITY, Unit, UnitError, UnknownUnitError, decimal_comma,
+                          did_you_mean, nearest, parse_unit, quantity, quantity_name, si_name, split_quantity,
+                          substitute_quantities)
 
 FREE = None  # dimension of a bare number: adapts to its place
 
@@ -538,6 +539,31 @@ def _misspelt_unit(text: str, inline: dict, scope: dict[str, str]) -> UnknownUni
     return misspelt[0][0]
 
 
+def _unspaced_unit(raw: str, scope: dict[str, str]) -> str | None:
+    """For an expression that does not parse: what is wrong with a number written against its unit ("p_c+10bar",
+    "p_c+10barr"), if that is all that is wrong: inside an expression a unit follows its number after a space.
+    It is, when the text with a space put after each such number parses with each quantity taken as a value,
+    its unit a known one or a misspelt one (:func:`_misspelt_unit`, said first as it is said for "p_c + 10
+    barr"); else None ("10k_unknown", "0x1F": nothing said about a unit)."""
+    unspaced = UNSPACED_QUANTITY.search(raw)
+    if unspaced is None:
+        return None
+    inline = {}
+    try:
+        text, _ = substitute_quantities(UNSPACED_QUANTITY.sub(r"\g<value> \g<unit>", raw), inline)
+    except UnitError:
+        return None
+    misspelt = _misspelt_unit(text, inline, scope)
+    if misspelt is None:
+        try:
+            parse_expression(text)
+        except ExpressionError:
+            return None
+    space = (f"inside an expression a unit follows its number after a space ('{unspaced['value']} "
+             f"{unspaced['unit']}', not '{unspaced[0]}')")
+    return f"{misspelt}; and {space}" if misspelt is not None else space
+
+
 def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: Located, path: tuple,
                bounds=None) -> Entry:
     """Read a raw netlist value: a number (SI), '<number> <unit>' (checked against ``unit``) or an expression."""
@@ -573,7 +599,7 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
         meant_an_expression = unit_problem is not None and not re.match(r"[A-Za-z%]", split_quantity(raw)[1])
         problem = as_written(str(exc), literals) if meant_an_expression or unit_problem is None else unit_problem
         if problem is not unit_problem:
-            problem = _misspelt_unit(text, inline, scope) or problem
+            problem = _misspelt_unit(text, inline, scope) or _unspaced_unit(raw, scope) or problem
         raise source.error(path, f"{name}: {problem}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
         raise source.error(path, f"{name}: {unit_problem}")
