@@ -39,6 +39,11 @@ class _Parser(argparse.ArgumentParser):
         raise ArgumentError(f"vphs: {message} (see 'vphs --help')")
 
 
+SET_EXPRESSIONS = ("; or an expression over the netlist's parameters, evaluated once with the plain --set values: "
+                   "--set Kvp=Kv/4 (repeatable)")
+"""What every command's --set help says of expressions (:func:`parse_overrides`)."""
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="vphs", description="Simulate hydraulic machinery described by YAML netlists.")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -50,7 +55,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("netlist")
     p.add_argument("-o", "--output", help="CSV file for the logged signals (header: name [unit])")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                   help="override a parameter, e.g. --set ctrl.Kp=4 --set 'm_load=15 t' (repeatable)")
+                   help="override a parameter, e.g. --set ctrl.Kp=4 --set 'm_load=15 t'" + SET_EXPRESSIONS)
     p.add_argument("--plot", help="PNG file: the logged signals on a shared time axis")
     p.add_argument("--x", metavar="SIGNAL", help="the plot's abscissa: a logged signal instead of t (p against Q)")
     p.add_argument("--y", action="append", default=[], metavar="SIGNAL",
@@ -77,7 +82,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="CSV file for the table of errors")
     p.add_argument("--plot", help="PNG file: simulated lines, reference points and the error beneath")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                   help="override a parameter when SIMULATED is a netlist (repeatable)")
+                   help="override a parameter when SIMULATED is a netlist" + SET_EXPRESSIONS)
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or notes on stderr")
 
     for name, what in (("optimise", "run a job's optimisation (the Complex method, Nelder-Mead, differential evolution)"),
@@ -108,7 +113,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--output", action="append", default=[], metavar="SIGNAL",
                    help="a logged signal taken as an output (default: every logged signal)")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
-                   help="override a parameter (SI, or with a unit: --set 'm_load=15 t')")
+                   help="override a parameter (SI, or with a unit: --set 'm_load=15 t')" + SET_EXPRESSIONS)
     p.add_argument("-o", "--modes", help="CSV file for the modes (eigenvalues, natural frequency, damping, states)")
     p.add_argument("--state-space", metavar="FILE", help="CSV file for the system matrix [[A, B], [C, D]] (SI)")
     p.add_argument("--response", metavar="FILE", help="CSV file for the frequency response (needs --input)")
@@ -262,41 +267,125 @@ def cmd_validate(args) -> int:
     return 0
 
 
-def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] | None = None) -> dict[str, float]:
-    """``name=value`` pairs; the value may carry a unit, checked against the parameter's declared unit.
+def parse_overrides(pairs: list[str], circuit, setting_options: dict[str, str] | None = None,
+                    changed: dict[str, str] | None = None) -> dict[str, float]:
+    """``name=value`` pairs in SI. A value is a number (SI), ``"<number> <unit>"`` (its unit checked against the
+    dimension the netlist gives the parameter) or an expression over the netlist's parameters by their
+    qualified names, written as the netlist writes one (``Kv/4``, ``"p_c + 10 bar"``): evaluated once, here,
+    with the netlist's values and the plain (number or quantity) ``--set`` values in their place, whatever
+    their order on the command line. An expression that reads, itself or through the netlist's expressions,
+    another ``--set`` expression, or a parameter in ``changed`` (-> what the command does to it: linearise's
+    --input), is refused (it would not follow; the netlist is where such an expression belongs); its own
+    name it reads at the netlist's value (``--set 'p_set=p_set + 10 bar'``). Every value is checked against
+    the parameter's bounds, and together with the others by :func:`_check_values_with`.
 
     ``setting_options`` maps a simulation setting to the command's option that sets it (run: t_end to
     --t-end), for the hint when such a setting is given to --set as if it were a parameter."""
-    from blocks.units import UnitError
-
-    overrides, written = {}, {}
-    entries = circuit.flat.parameters.entries
+    table = circuit.flat.parameters
+    plain, expressions, written = {}, {}, {}
     for pair in pairs:
-        name, sep, raw = pair.partition("=")
-        name, raw = name.strip(), raw.strip()
-        if not sep or not name or not raw:
-            raise ArgumentError(f"vphs: --set '{pair}': expected NAME=VALUE")
-        if name in written:
-            raise ArgumentError(f"vphs: --set: '{name}' is set twice ({written[name]}, then {raw})")
-        written[name] = raw
-        if name not in entries:
-            raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
-                                + _unknown_parameter_hint(name, entries, setting_options or {},
-                                                          circuit.flat.parameters.derived))
-        derived = circuit.flat.parameters.derived
-        if name in derived:
-            raise ArgumentError(f"vphs: --set '{pair}': {name} is derived from {derived[name]}: set that instead")
-        entry = entries[name]
-        try:  # value_si refuses an array, a unit the netlist contradicts and a value that is not finite
-            overrides[name] = circuit.flat.parameters.value_si(name, raw)
-        except UnitError as exc:
-            raise ArgumentError(f"vphs: --set '{pair}': {exc}") from None
-        if entry.bounds is not None:
-            problem = entry.bounds.check(overrides[name])
-            if problem:
-                raise ArgumentError(f"vphs: --set '{pair}': {problem}")
+        name, raw = _override_pair(pair, written, circuit, setting_options or {})
+        entry = _given_expression(table, name, raw, pair)
+        if entry is None:
+            plain[name] = _override_value(table, name, raw, pair)
+        else:
+            expressions[name] = entry
+    computed = {}
+    if expressions:
+        with _set_errors():
+            values = _values_with(plain, written, circuit)
+            computed = table.given_values(expressions, values, plain, changed or {}, "--set")
+        for name, value in computed.items():
+            _check_bounds(table, name, value, f"{name}={written[name]}")
+    overrides = {name: plain[name] if name in plain else computed[name] for name in written}
     _check_values_with(overrides, written, circuit)
     return overrides
+
+
+def _values_with(plain: dict[str, float], written: dict[str, str], circuit) -> dict:
+    """The netlist's values with the plain ``--set`` values, for its expressions to read. Those the netlist's
+    expressions cannot take (a 0 it divides by) are said as :func:`_check_values_with` says them; the blocks'
+    checks of their values together wait for the expressions' values (``--set 'p_open=p_set + 10 bar'`` may
+    be what makes a higher p_set right)."""
+    from blocks.errors import NetlistError
+
+    try:
+        return circuit.flat.parameters.evaluate(plain)
+    except NetlistError:
+        _check_values_with(plain, written, circuit)
+        raise
+
+
+def _override_pair(pair: str, written: dict[str, str], circuit, setting_options: dict[str, str]) -> tuple[str, str]:
+    """The name and value text of one ``--set`` pair, the name a parameter that can be set, given once
+    (``written``: the values given so far by name, this one added)."""
+    from blocks.units import UnitError
+
+    name, sep, raw = pair.partition("=")
+    name, raw = name.strip(), raw.strip()
+    if not sep or not name or not raw:
+        raise ArgumentError(f"vphs: --set '{pair}': expected NAME=VALUE")
+    if name in written:
+        raise ArgumentError(f"vphs: --set: '{name}' is set twice ({written[name]}, then {raw})")
+    written[name] = raw
+    table = circuit.flat.parameters
+    if name not in table.entries:
+        raise ArgumentError(f"vphs: --set '{pair}': unknown parameter '{name}'"
+                            + _unknown_parameter_hint(name, table.entries, setting_options, table.derived))
+    if name in table.derived:
+        raise ArgumentError(f"vphs: --set '{pair}': {name} is derived from {table.derived[name]}: set that instead")
+    try:
+        table.check_single(name)
+    except UnitError as exc:
+        raise ArgumentError(f"vphs: --set '{pair}': {exc}") from None
+    return name, raw
+
+
+SET_SOURCE = "--set"
+"""The file named by the errors of a ``--set`` expression (:func:`_set_errors` turns them into its own)."""
+
+
+@contextmanager
+def _set_errors():
+    """Within: an error located in a ``--set`` value (by :func:`_given_expression`) is said as the command's
+    own, one line naming the option; the netlist's own errors stay as they are."""
+    from blocks.errors import NetlistError
+
+    try:
+        yield
+    except NetlistError as exc:
+        if exc.file != SET_SOURCE:
+            raise
+        raise ArgumentError(f"vphs: {exc.message}") from None
+
+
+def _given_expression(table, name: str, raw: str, pair: str):
+    """The expression ``raw`` given by ``--set pair`` for ``name`` (its names and dimension checked), or None
+    for a number or a quantity (:func:`_override_value` reads those)."""
+    from blocks.netlist.yaml_source import Located
+
+    with _set_errors():
+        return table.given_expression(name, raw, Located(SET_SOURCE, None), (), f"--set '{pair}'")
+
+
+def _override_value(table, name: str, raw: str, pair: str) -> float:
+    """A number or ``"<number> <unit>"`` given by ``--set pair`` for ``name``, in SI, inside its bounds."""
+    from blocks.units import UnitError
+
+    try:  # value_si refuses a unit the netlist contradicts and a value that is not finite
+        value = table.value_si(name, raw)
+    except UnitError as exc:
+        raise ArgumentError(f"vphs: --set '{pair}': {exc}") from None
+    _check_bounds(table, name, value, pair)
+    return value
+
+
+def _check_bounds(table, name: str, value: float, pair: str) -> None:
+    """``value`` (SI), given by ``--set pair`` for ``name``, inside the bounds the netlist's block gives it."""
+    bounds = table.entries[name].bounds
+    problem = bounds.check(value) if bounds is not None else None
+    if problem:
+        raise ArgumentError(f"vphs: --set '{pair}': {problem}")
 
 
 def _check_values_with(overrides: dict[str, float], written: dict[str, str], circuit) -> None:
@@ -693,9 +782,10 @@ def cmd_linearise(args) -> int:
     if not 2 <= args.points <= MAX_RESPONSE_POINTS:
         raise ArgumentError(f"vphs: --points {args.points}: need 2 to {MAX_RESPONSE_POINTS}")
     circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
-    overrides = parse_overrides(args.set, circuit, {"t_end": "--at"})
-    circuit.vectors(overrides)
     inputs, in_units = _linear_inputs(args.input, circuit)
+    perturbed = {name: f"--input {name} perturbs (the response would leave it out)" for name in inputs}
+    overrides = parse_overrides(args.set, circuit, {"t_end": "--at"}, perturbed)
+    circuit.vectors(overrides)
     logged = {o.name: o for o in circuit.outputs}
     _check_signals("--output", args.output, logged, args.netlist)
     at = None

@@ -387,8 +387,13 @@ def file_format() -> str:
         "written in, or for a bare number the dimension its readers take it in: `n_gear` in `J: \"0.085 + "
         "m_load*r_pinion**2/n_gear**2\"` is a plain number, so `--set \"n_gear=39 rpm\"` is an error. A bare "
         "number read only where any unit goes (a generic signal block's `SI` parameter) takes any unit, "
-        "converted to SI unchecked. A job's `set:` and load-case values may also be expressions over the "
-        "netlist's parameters (see the optimisation job file below).",
+        "converted to SI unchecked. `--set` values, a job's `set:` and load-case values and an experiment's "
+        "`overrides:` and `groups:` values may also be expressions over the netlist's parameters by their "
+        "qualified names (`--set Kvp=Kv/4`, `--set \"p_c=p_crack + 10 bar\"`), evaluated once with the "
+        "netlist's values and the section's plain values in their place (see the optimisation job file and "
+        "the calibration experiment below); one that reads another expression of its section, or a parameter "
+        "the command changes (a job's varied one, an experiment's free one, linearise's `--input`), is refused: "
+        "it would not follow it.",
         "",
         "### Fluid and defaults",
         "",

@@ -328,14 +328,18 @@ def decimal_comma(text: str) -> str | None:
     return None
 
 
+_INLINE_NUMBER = r"(?<![\w.])(?P<value>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)"
+_INLINE_UNIT = (r"(?P<unit>[A-Za-z%][A-Za-z0-9%]*(?:(?:\^|\*\*)-?\d+(?:\.\d+)?)?"
+                r"(?:[*/·][A-Za-z%][A-Za-z0-9%]*(?:(?:\^|\*\*)-?\d+(?:\.\d+)?)?)*)")
 _INLINE_QUANTITY = re.compile(
     # a number, a space, then a unit written without spaces ("30 cm^3/rev", "1e-12 m^3/(s*Pa)" is not
     # supported inside expressions): "1000 kg * g" keeps g a parameter name, not a gram, and "1 bar/A.initial"
     # reads the dotted name A.initial, not a unit bar/A
-    r"(?<![\w.])(?P<value>(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?)\s+"
-    r"(?P<unit>[A-Za-z%][A-Za-z0-9%]*(?:(?:\^|\*\*)-?\d+(?:\.\d+)?)?"
-    r"(?:[*/·][A-Za-z%][A-Za-z0-9%]*(?:(?:\^|\*\*)-?\d+(?:\.\d+)?)?)*)(?![\w(.])"
+    _INLINE_NUMBER + r"\s+" + _INLINE_UNIT + r"(?![\w(.])"
 )
+UNSPACED_QUANTITY = re.compile(_INLINE_NUMBER + r"(?![eE][-+]?\d)" + _INLINE_UNIT)
+"""A number written against what may be its unit ("10bar" in "p_c+10bar"): not a quantity inside an expression,
+where the unit follows its number after a space; looked for only to say so (an exponent, "1e5", is no unit)."""
 
 
 _LITERAL_NAMES = __import__("itertools").count()

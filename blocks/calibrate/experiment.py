@@ -18,6 +18,7 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
     overrides: {R_meter: "5e8 Pa*s/m^3"} # parameter values for every point
     groups:                              # per group: parameter values (e.g. each crack setting) ...
       "1": {p_set: "30 bar"}
+      "2": {p_set: "p_set + 15 bar"}   # or an expression over the netlist's parameters (evaluated once)
     group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group:
                                          # one row per group, 'crack [bar]' in a unit of p_set's dimension
     free:                                # the declared free parameters, values in any unit of their dimension
@@ -61,6 +62,16 @@ steady points: its own setting). The groups are known from the data, so the copi
 (:func:`blocks.calibrate.run.per_group_globals`). Such a parameter is not in ``drift:`` (drift refits a
 shared one per group), and in a held-out refit the held-out group's own values are fitted to that group
 alone (:mod:`blocks.calibrate.heldout`).
+
+A value of ``overrides:`` or of a group under ``groups:`` may also be an expression over the netlist's
+parameters by their qualified names, as the netlist writes one (``"1.1*R_meter"``, ``"p_crack + 10 bar"``).
+It is evaluated once, when the experiment is loaded, with the netlist's values and the plain values of its
+section in their place (``overrides:``'s; for a group, the overrides' and the group's own, its group table's
+included), so it may not read, itself or through the netlist's expressions, a parameter the calibration
+changes (a free one, an input's parameter set point by point, a latent level), another expression of the
+same section, or for ``overrides:`` (the same in every group) a parameter a group sets: it would not follow
+them (write such an expression in the netlist, where it does). Its own name reads the netlist's value
+(``p_set: "p_set + 5 bar"``).
 """
 
 from __future__ import annotations
@@ -396,13 +407,22 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
             if not seconds > 0:
                 raise located.error(("steady", key), f"steady.{key} must be positive, got {raw}")
 
-    overrides = {param_name(n, ("overrides", n)): si(n, v, ("overrides", n)) for n, v in spec.overrides.items()}
+    table, fitted = circuit.flat.parameters, _changed_by_fit(spec, channels)
+    plain, expressions = _given_section(table, located, spec.overrides, ("overrides",), param_name, si)
+    computed = _expression_values(circuit, located, ("overrides",), "overrides", expressions, plain,
+                                  {**_set_per_group(spec), **fitted})
+    overrides = {n: plain[n] if n in plain else computed[n] for n in spec.overrides}
     groups: dict[str, dict[str, float]] = {}
+    pending = {}  # each group's expressions, evaluated with its plain values and its group table's
     for label, values in spec.groups.items():
-        groups[str(label)] = {param_name(n, ("groups", label, n)): si(n, v, ("groups", label, n))
-                              for n, v in values.items()}
+        groups[str(label)], pending[label] = _given_section(table, located, values, ("groups", label), param_name, si)
     if spec.group_table is not None:
-        _read_group_table(spec, located, base, groups, param_name, circuit.flat.parameters)
+        _read_group_table(spec, located, base, groups, param_name, table)
+    for label, expressions in pending.items():
+        key = str(label)
+        computed = _expression_values(circuit, located, ("groups", label), f"group {key}", expressions,
+                                      {**overrides, **groups[key]}, fitted)
+        groups[key] = {**computed, **groups[key]}
 
     for c in channels:  # a latent level is fitted: a value given for it too would be silently overridden
         for k, level in enumerate(c.latent):
@@ -492,6 +512,82 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
     check_free_values(circuit, overrides, groups, free, spec, located)
     return Experiment(file, spec, located, netlist, data, channels, overrides, groups, free, corrections, data_files,
                       exact)
+
+
+def _given_section(table, located: Located, raws: dict, path: tuple, param_name, si) -> tuple[dict, dict]:
+    """The values of ``overrides:`` or of a group (``raws``, at ``path``): the numbers and ``"<number> <unit>"``
+    in SI (by ``si``), and apart, the expressions over the netlist's parameters (by name, as
+    :meth:`~blocks.netlist.parameters.ParameterTable.given_expression` reads them, their names and dimension
+    checked, errors located at their key), which :func:`_expression_values` evaluates."""
+    plain, expressions = {}, {}
+    for name, raw in raws.items():
+        where = path + (name,)
+        param_name(name, where)
+        try:  # an array (a table) takes no single value, an expression's no more than a number
+            table.check_single(name)
+        except UnitError as exc:
+            raise located.error(where, f"{name}: {exc}") from None
+        entry = table.given_expression(name, raw, located, where, ".".join(shown_key(p) for p in where))
+        if entry is None:
+            plain[name] = si(name, raw, where)
+        else:
+            expressions[name] = entry
+    return plain, expressions
+
+
+def _expression_values(circuit, located: Located, path: tuple, what: str, expressions: dict, known: dict[str, float],
+                       changed: dict[str, str]) -> dict[str, float]:
+    """The values of the ``expressions`` of one section of the experiment (at ``path``: ``overrides:``, a
+    group), evaluated once, with the netlist's values and ``known`` (the section's plain values, and for a
+    group the overrides) in their place. One that reads, itself or through the netlist's expressions, a
+    parameter in ``changed`` (-> what changes it: the fit, a group) or another expression of its section
+    would not follow it and is refused, at its key (:meth:`~blocks.netlist.parameters.ParameterTable.
+    given_values`). Plain values the netlist's expressions cannot take (``known``: a 0 it divides by) refuse
+    the section, as :func:`check_values` says; the blocks' checks of their values together wait for the
+    expressions' values (``p_open: "p_set + 10 bar"`` may be what makes a higher p_set right)."""
+    if not expressions:
+        return {}
+    table = circuit.flat.parameters
+    try:
+        values = table.evaluate(known)
+    except (NetlistError, ParameterError):
+        _check_with(circuit, known, path, what, located)
+        raise
+    return table.given_values(expressions, values, known, changed, ".".join(shown_key(p) for p in path))
+
+
+def _check_with(circuit, values: dict[str, float], path: tuple, what: str, located: Located) -> None:
+    """The netlist evaluated with the experiment's ``values`` (those of ``what``, set at ``path``), its blocks'
+    checks included: values it cannot take are the experiment's error, located at ``path``; the netlist's own
+    failure (with its own values) is raised as it is, located in the netlist."""
+    try:
+        circuit.vectors(values)
+    except (NetlistError, ParameterError) as exc:
+        try:
+            circuit.vectors({})
+        except (NetlistError, ParameterError):
+            raise exc from None
+        raise located.error(path, f"{path[0]}: with the values of {what} the netlist cannot be evaluated: "
+                                  f"{exc}") from None
+
+
+def _changed_by_fit(spec: ExperimentSpec, channels: list[Channel]) -> dict[str, str]:
+    """The parameters the calibration changes (-> how: for a message), which an expression among the
+    experiment's values may not read: the free ones, a steady input's (set point by point) and the latent
+    levels of a time series' inputs."""
+    changed = {c.parameter: f"inputs.{c.name} sets point by point" for c in channels if c.parameter is not None}
+    changed.update({n: f"the calibration fits (inputs.{c.name}.latent)" for c in channels for n in c.latent})
+    changed.update({n: f"the calibration fits (free.{n})" for n in spec.free})
+    return changed
+
+
+def _set_per_group(spec: ExperimentSpec) -> dict[str, str]:
+    """The parameters set per group (-> by what: for a message), by ``groups:`` or ``group_table:``, which an
+    expression in ``overrides:`` (the same for every group) may not read."""
+    found = {n: "group_table sets per group" for n in spec.group_table.columns.values()} if spec.group_table else {}
+    for label, values in reversed(spec.groups.items()):  # the first group that sets one names it
+        found.update({n: f"groups.{shown_key(label)} sets" for n in values})
+    return found
 
 
 def _looked_for(written: str, path: Path) -> str:
@@ -758,11 +854,7 @@ def check_values(circuit, overrides: dict[str, float], groups: dict[str, dict[st
         ((("groups", label) if label in {str(k) for k in spec.groups} else ("group_table",)), f"group {label}",
          {**overrides, **values}) for label, values in groups.items()]
     for path, what, values in tries:
-        try:
-            circuit.vectors(values)
-        except (NetlistError, ParameterError) as exc:
-            raise located.error(path, f"{path[0]}: with the values of {what} the netlist cannot be evaluated: "
-                                      f"{exc}") from None
+        _check_with(circuit, values, path, what, located)
 
 
 def check_free_values(circuit, overrides: dict[str, float], groups: dict[str, dict[str, float]], free: list[Free],

@@ -25,10 +25,15 @@ import numpy as np
 from blocks.errors import NetlistError, VphsError
 from blocks.expressions import Expression, ExpressionError, dotted_name, parse_expression
 from blocks.netlist.yaml_source import Located
-from blocks.units import (_QUANTITY, GENERIC, Unit, UnitError, UnknownUnitError, decimal_comma, did_you_mean, nearest,
-                          parse_unit, quantity, quantity_name, si_name, split_quantity, substitute_quantities)
+from blocks.units import (_QUANTITY, GENERIC, UNSPACED_QUANTITY, Unit, UnitError, UnknownUnitError, decimal_comma,
+                          did_you_mean, nearest, parse_unit, quantity, quantity_name, si_name, split_quantity,
+                          substitute_quantities)
 
 FREE = None  # dimension of a bare number: adapts to its place
+
+
+EVALUATED_ONCE = "an expression here is evaluated once, with the netlist's values; write it in the netlist"
+"""Why an expression given from outside the netlist may not read what changes (:meth:`ParameterTable.given_values`)."""
 
 
 class ParameterError(VphsError):
@@ -221,13 +226,18 @@ class ParameterTable:
         A unit no reader constrains (a bare number put only where any unit goes) is converted unchecked.
         An array (a table) takes no single value, and the value must be finite. Raises UnitError (no
         location: the caller names where the value was given)."""
+        self.check_single(name)
         entry = self.entries[name]
-        if entry.elements is not None or isinstance(entry.constant, tuple) or getattr(entry.bounds, "array", False):
-            raise UnitError(f"{name} is an array (a table); change it in the netlist")
         value = self._si(name, entry, raw)
         if not np.isfinite(value):
             raise UnitError(f"{raw!r} is not a finite number")
         return value
+
+    def check_single(self, name: str) -> None:
+        """Raise UnitError if ``name`` is an array (a table): no single value given from outside replaces it."""
+        entry = self.entries[name]
+        if entry.elements is not None or isinstance(entry.constant, tuple) or getattr(entry.bounds, "array", False):
+            raise UnitError(f"{name} is an array (a table); change it in the netlist")
 
     def _si(self, name: str, entry: Entry, raw) -> float:
         if entry.unit not in (None, GENERIC):
@@ -274,8 +284,9 @@ class ParameterTable:
             raise entry.error(f"{label}: wrong unit: '{raw}' is in {dims.describe_dims()}, but {problem}")
         return entry
 
-    def reads(self, entry: Entry) -> set[str]:
-        """The names ``entry``'s value depends on: those it reads, and through their expressions theirs."""
+    def reads(self, entry: Entry, held=()) -> set[str]:
+        """The names ``entry``'s value depends on: those it reads, and through their expressions theirs, except
+        through the names ``held`` at a value given for them (whose expressions in the netlist are not read)."""
         found, todo = set(), [entry]
         while todo:
             reader = todo.pop()
@@ -283,12 +294,33 @@ class ParameterTable:
                 target = reader.scope[local]  # order() checked the scope
                 if target not in found:
                     found.add(target)
-                    todo.append(self.entries[target])
+                    if target not in held:
+                        todo.append(self.entries[target])
         return found
 
     def value_of(self, entry: Entry, values: dict[str, float | tuple]) -> float | tuple:
         """The value of an entry not in the table (:meth:`given_expression`) from the table's ``values``."""
         return self._value(entry, values)
+
+    def given_values(self, expressions: dict[str, Entry], values: dict[str, float | tuple], held,
+                     changed: dict[str, str], section: str) -> dict[str, float | tuple]:
+        """The values of the expressions a section given from outside the netlist holds (a job's ``set:``, an
+        experiment's ``overrides:``, the ``--set`` options; each by the name it sets, from
+        :meth:`given_expression`), from the table's ``values`` (:meth:`evaluate` with the names ``held`` at
+        the section's plain values, and at those it is given on top of). Each is evaluated once, so one that
+        reads, itself or through the netlist's expressions, a name in ``changed`` (-> what changes it: 'the job
+        varies') or another expression of ``expressions`` would not follow it, and is refused, located where
+        it was given. Its own name is no such read: there it reads the netlist's value (``p_set: "p_set + 10
+        bar"``); nor is what the netlist's expression of a held name reads."""
+        found = {}
+        for name, entry in expressions.items():
+            for read in sorted(self.reads(entry, held)):
+                why = changed.get(read) or (f"is given by an expression in {section} too"
+                                            if read != name and read in expressions else None)
+                if why:
+                    raise entry.error(f"{entry.name}: '{entry.written}' reads {read}, which {why}: {EVALUATED_ONCE}")
+            found[name] = self.value_of(entry, values)
+        return found
 
     def unit_conflict(self, name: str, given: Unit) -> str | None:
         """Why a value of ``name`` in the dimension ``given`` cannot be one, where the netlist gives ``name`` no
@@ -507,6 +539,31 @@ def _misspelt_unit(text: str, inline: dict, scope: dict[str, str]) -> UnknownUni
     return misspelt[0][0]
 
 
+def _unspaced_unit(raw: str, scope: dict[str, str]) -> str | None:
+    """For an expression that does not parse: what is wrong with a number written against its unit ("p_c+10bar",
+    "p_c+10barr"), if that is all that is wrong: inside an expression a unit follows its number after a space.
+    It is, when the text with a space put after each such number parses with each quantity taken as a value,
+    its unit a known one or a misspelt one (:func:`_misspelt_unit`, said first as it is said for "p_c + 10
+    barr"); else None ("10k_unknown", "0x1F": nothing said about a unit)."""
+    unspaced = UNSPACED_QUANTITY.search(raw)
+    if unspaced is None:
+        return None
+    inline = {}
+    try:
+        text, _ = substitute_quantities(UNSPACED_QUANTITY.sub(r"\g<value> \g<unit>", raw), inline)
+    except UnitError:
+        return None
+    misspelt = _misspelt_unit(text, inline, scope)
+    if misspelt is None:
+        try:
+            parse_expression(text)
+        except ExpressionError:
+            return None
+    space = (f"inside an expression a unit follows its number after a space ('{unspaced['value']} "
+             f"{unspaced['unit']}', not '{unspaced[0]}')")
+    return f"{misspelt}; and {space}" if misspelt is not None else space
+
+
 def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: Located, path: tuple,
                bounds=None) -> Entry:
     """Read a raw netlist value: a number (SI), '<number> <unit>' (checked against ``unit``) or an expression."""
@@ -542,7 +599,7 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
         meant_an_expression = unit_problem is not None and not re.match(r"[A-Za-z%]", split_quantity(raw)[1])
         problem = as_written(str(exc), literals) if meant_an_expression or unit_problem is None else unit_problem
         if problem is not unit_problem:
-            problem = _misspelt_unit(text, inline, scope) or problem
+            problem = _misspelt_unit(text, inline, scope) or _unspaced_unit(raw, scope) or problem
         raise source.error(path, f"{name}: {problem}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
         raise source.error(path, f"{name}: {unit_problem}")

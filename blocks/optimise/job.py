@@ -604,19 +604,14 @@ class _Resolver:
             if entry is None:
                 plain[k] = self.value(k, raw, path + (k,))
             else:
-                expressions[k] = (entry, where)
+                expressions[k] = entry
+        held = {**given, **plain}
         try:
-            values = self.table.evaluate({**given, **plain}) if expressions else {}
+            values = self.table.evaluate(held) if expressions else {}
         except NetlistError as exc:
             raise self.error(path, f"{'.'.join(path)}: with these values {exc.message}{_origin(exc)}") from None
-        for k, (entry, where) in expressions.items():
-            for read in sorted(self.table.reads(entry)):
-                why = changed.get(read) or (f"is given by an expression in {'.'.join(path)} too" if read != k and
-                                            read in expressions else None)
-                if why:
-                    raise self.error(path + (k,), f"{where}: '{raws[k]}' reads {read}, which {why}: an expression "
-                                     f"here is evaluated once, with the netlist's values; write it in the netlist")
-            plain[k] = self.checked(k, self.table.value_of(entry, values), raws[k], path + (k,))
+        for k, value in self.table.given_values(expressions, values, held, changed, ".".join(path)).items():
+            plain[k] = self.checked(k, value, raws[k], path + (k,))
         return {k: plain[k] for k in raws}
 
     def value(self, name: str, raw, path: tuple) -> float:
