@@ -1145,6 +1145,13 @@ RERUNS = (  # (archive, what changed): each a paragraph of the table's versions,
      "step had ended at 1e-5 s, and half of it, under the delay's shortest 1e-5 s, passes the input through) "
      "tries such a change again at 10 times its step and scores it there if it is first order. Compared with "
      "the same records."),
+    ("s24_dahl.jsonl",
+     "Session 24: the relief rig's spool friction (Dahl's model) followed a smoothed sign of the spool's speed, "
+     "u'/sqrt(u'^2 + w^2), which settles the friction state at sqrt(u'^2 + w^2)/u' > 1, so that a spool creeping "
+     "to rest held more than p_fric (a physics audit found it; blocks/library/hydraulic/spool_relief_valve.py "
+     "now has Dahl's exact law, |z| <= 1). It moves the truth where spool friction is planted (lambda at the "
+     "recorded size 104.7 -> 103.7, with 60 points 107.2 -> 106.3) and the spool-friction candidate in every "
+     "steady seed. Compared with the records above, or with the latest rerun where there is one."),
 )
 
 

@@ -598,7 +598,8 @@ def make_entry(name: str, raw, unit: str | None, scope: dict[str, str], source: 
     except (ExpressionError, UnitError) as exc:
         meant_an_expression = unit_problem is not None and not re.match(r"[A-Za-z%]", split_quantity(raw)[1])
         problem = as_written(str(exc), literals) if meant_an_expression or unit_problem is None else unit_problem
-        if problem is not unit_problem:
+        # "10 barr + p_c" is no quantity ('+ p_c' in its unit) but an expression whose unit is misspelt
+        if problem is not unit_problem or not isinstance(unit_problem, UnknownUnitError):
             problem = _misspelt_unit(text, inline, scope) or _unspaced_unit(raw, scope) or problem
         raise source.error(path, f"{name}: {problem}") from None
     if unit_problem is not None and "wrong unit" in str(unit_problem):
