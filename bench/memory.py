@@ -22,8 +22,8 @@ run, netlists/examples/drive_line.yaml (6 logged signals, 7 states).
 2. A long run: the drive line simulated for --t-end seconds (dt_out 1 ms): the peak RSS increase and
    the traced peak of Circuit.simulate, of ``vphs run -o CSV`` and of ``vphs run -o CSV --plot PNG``, each
    over the bare size of the output arrays (samples x logged signals x 8 bytes). The result holds the
-   states too, and the CSV is written from text built in memory, so a ratio of a few is expected; 50
-   would be a finding.
+   states too (the CSV is written a block of rows at a time), so a ratio of a few is expected; 50 would
+   be a finding.
 3. A sweep (``vphs sweep``, one worker, report written) of P/10 and of P points: peak RSS increase,
    traced peak and the bytes per point (the difference of the two traced peaks over the difference of
    the points) beside the bytes of a point's line in the log. Only the points' records are kept: the
@@ -251,6 +251,8 @@ def main() -> int:
     parser.add_argument("--points", type=int, default=2000, help="P: the larger sweep's points")
     parser.add_argument("--dask-points", type=int, default=400, help="D: the Dask batch's designs (0: skip)")
     args = parser.parse_args()
+    if args.evaluations < 100 or args.points < 100:  # two sizes apart enough for a difference per evaluation
+        parser.error("--evaluations and --points must be at least 100")
     job = load_job(JOB)
     with tempfile.TemporaryDirectory(prefix="vphs_memory_") as tmp:
         folder = Path(tmp)

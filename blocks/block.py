@@ -359,10 +359,13 @@ def check_declarations(cls: type[Block]) -> None:
             raise TypeError(f"{owner}: a rigid link needs a ratio(...) function of parameters")
         if any(arg not in {p.name for p in cls.params} for arg in argument_names(cls.ratio)):
             raise TypeError(f"{owner}.ratio may take parameters only")
-    ports = {p.name for p in cls.ports}
+    through = {PortKind.HYDRAULIC: "flow", PortKind.ROTATIONAL: "torque", PortKind.TRANSLATIONAL: "force"}
     for ref in cls.checked:
-        if ref.split(".")[0] not in ports:
-            raise TypeError(f"{owner}: checked signal '{ref}' names no port of the block")
+        port_name, _, what = ref.partition(".")
+        port = next((p for p in cls.ports if p.name == port_name), None)
+        if port is None or (what and what != through.get(port.kind)):
+            raise TypeError(f"{owner}: checked signal '{ref}' is neither a port of the block nor a physical "
+                            f"port's flow, torque or force ('<port>.flow')")
     if cls.checked and cls.valid_ranges.__func__ is Block.valid_ranges.__func__:
         raise TypeError(f"{owner}: declares checked signals {list(cls.checked)} but no valid_ranges()")
     names = {p.name for p in cls.params}

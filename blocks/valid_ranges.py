@@ -84,5 +84,5 @@ def _range_text(valid, unit: str) -> str:
 def _shown(value: float, unit: str, with_unit: bool = True) -> str:
     """A value for a message, in bar, l/min or deg where SI would be unreadable, else in its SI unit."""
     name, factor = _SHOWN.get(unit, (unit, 1.0))
-    text = f"{value / factor:.4g}"
+    text = f"{value / factor:.6g}"
     return f"{text} {name}" if with_unit and name not in ("", GENERIC, "1") else text

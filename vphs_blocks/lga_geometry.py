@@ -97,7 +97,8 @@ given numerically in the text: THESIS["e"] = 0.6 m is a CHOICE (the baseplate's 
 Its slopes, for the rate dJ_S/dt = dJ_S/dtheta1*theta1_dot + dJ_S/dd2*d2_dot (block lga_slewing_load):
 with dX_i/dtheta1 = -Y_i (the arm-fixed centres; for the gripper -(Y_3 - eta3): its offset stays level)
 and dX_2/dd2 = dX_3/dd2 = cos(theta1),
-  dJ_S/dtheta1 = -2*sum_i m_i*(e + X_i)*dY_i + (J1_xi - J1_eta + J2_xi - J2_eta)*sin(2*theta1)
+  dJ_S/dtheta1 = -2*[m1*(e + X_1)*Y_1 + m2*(e + X_2)*Y_2 + m3*(e + X_3)*(Y_3 - eta3)]
+                 + (J1_xi - J1_eta + J2_xi - J2_eta)*sin(2*theta1)
   dJ_S/dd2     = 2*cos(theta1)*[m2*(e + X_2) + m3*(e + X_3)]
   n_tot = n_g*D_irg/d_p                                                       (2.52)
   J_sm = J_S/n_tot^2  (+ J_m + J_g of the motor and gearbox, which belong to them)   (2.53)

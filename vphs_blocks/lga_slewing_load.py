@@ -39,7 +39,10 @@ class LgaSlewingLoad(Block):
     neglects centripetal forces; at its 30 deg/s the pull on the telescope is 217 N at the start pose
     (theta1 = 45 deg, d2 = 0.2 m: 7 % of its weight along the arm) and 424 N near the horizontal (theta1 = 5
     deg, d2 = 0.5 m: more than that weight), the jib's moment 838 N*m at the start pose, raising the arm
-    (1.7 kN on its cylinder). k_vel = 0 leaves all three out (J_S still follows the pose: the thesis's J_sm*dw/dt = tau).
+    (1.7 kN on its cylinder). k_vel = 0 leaves all three out (J_S still follows the pose: the thesis's
+    J_sm*dw/dt = tau). Not here: the jib's and the telescope's coupling to each other (the jib's effective
+    mass follows the telescope's extension), which `lga_jib_load` neglects as the thesis does; the energy
+    is kept exactly only while one of the two is still.
 
     Parameters of the arm's geometry and masses as in `lga_jib_load` (the thesis's LGA, section 2.8); e, the
     distance of joint A from the slewing axis, is not given in the text (0.6 m chosen, the baseplate's

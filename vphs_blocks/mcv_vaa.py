@@ -154,9 +154,10 @@ class MotionControlValveVAA(Block):
     measured multistep data gives kp ~ 850...900 bar/unit, the thesis's 895. sqrt(dp) is regularised as
     (dp^2 + dp_t^2)^(1/4); the polynomial's argument is held at q_ff_max (the fit's range, "only valid up
     to 100 l/min"). The polynomial is chosen by the parameter p_crack (a jump in parameter space only).
-    With the flow force on, a run in which the flow out of C1 or C2 (the relief flow while it meters,
-    C1.flow < 0 delivered) goes beyond q_ff_max at an output sample is warned of: there the force is the
-    fit's end value, an extrapolation the thesis did not make.
+    With the flow force on, a run in which the flow out of C1 or C2 (C1.flow < 0 delivered: the port's net
+    flow, the relief flow while it meters less the closed check valve's leak) goes beyond q_ff_max at an
+    output sample is warned of: there the force is the fit's end value, an extrapolation the thesis did not
+    make.
 
     Sizes (presets, table 2.8): VF050, VF150, VF250. Spring stiffnesses and the spool response are measured
     for the VF250 only (table 2.9: kp1 + kp2 = 895 bar/unit, split 495/400): they are the defaults for all

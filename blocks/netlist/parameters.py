@@ -311,7 +311,8 @@ class ParameterTable:
         reads, itself or through the netlist's expressions, a name in ``changed`` (-> what changes it: 'the job
         varies') or another expression of ``expressions`` would not follow it, and is refused, located where
         it was given. Its own name is no such read: there it reads the netlist's value (``p_set: "p_set + 10
-        bar"``); nor is what the netlist's expression of a held name reads."""
+        bar"``); nor is what the netlist's expression of a held name reads. Its own name read through another
+        name is: that name follows the value given (``w0: "sys.wn/3"`` with ``sys.wn: "2*w0"``)."""
         found = {}
         for name, entry in expressions.items():
             for read in sorted(self.reads(entry, held)):
@@ -319,6 +320,10 @@ class ParameterTable:
                                             if read != name and read in expressions else None)
                 if why:
                     raise entry.error(f"{entry.name}: '{entry.written}' reads {read}, which {why}: {EVALUATED_ONCE}")
+            for read in sorted({entry.scope[local] for local in entry.dependencies()} - {name} - set(held)):
+                if name in self.reads(self.entries[read], held):
+                    raise entry.error(f"{entry.name}: '{entry.written}' reads {read}, which reads {name}, the name "
+                                      f"it sets: {read} would follow the value given, not the one read")
             found[name] = self.value_of(entry, values)
         return found
 

@@ -42,7 +42,7 @@ from pathlib import Path
 from blocks.errors import VphsError
 from blocks.optimise.costs import Term, combine, evaluate_term
 
-_CIRCUITS: dict[tuple, object] = {}  # (netlist, its files' digests) -> circuit, the most recent last
+_CIRCUITS: dict[tuple, tuple] = {}  # (netlist, digests given) -> (circuit, its files' digests), most recent last
 _KEPT = 4  # circuits a process keeps (each job's own)
 _LOCK = threading.Lock()
 
@@ -60,24 +60,34 @@ class EvalSpec:
 
 
 def circuit_for(netlist: str, sources: tuple[tuple[str, str], ...] = ()):
-    """The compiled circuit of ``netlist`` whose files have the digests ``sources`` (none given: as the
-    files are now), loaded once per process; a file that no longer has its digest is a :class:`VphsError`."""
+    """The compiled circuit of ``netlist`` whose files have the digests ``sources``, loaded once per process; a
+    file that no longer has its digest is a :class:`VphsError`. With no digests given, the files as they are
+    now: a kept circuit whose files have changed since it was built is built again."""
     key = (netlist, sources)
-    circuit = _CIRCUITS.pop(key, None)
-    if circuit is None:
+    kept = _CIRCUITS.pop(key, None)
+    if kept is not None and not sources and _digests(kept[0], netlist) != kept[1]:
+        kept = None
+    if kept is None:
         from blocks.circuit import Circuit
-        from blocks.optimise.job import source_digests
 
         circuit = Circuit.from_file(netlist)
-        now = source_digests(circuit.flat.files, Path(netlist).resolve().parent)
+        now = _digests(circuit, netlist)
         changed = sorted(name for name, digest in sources if now.get(name) != digest)
         if changed:
             raise VphsError(f"{netlist}: {', '.join(changed)} changed since the job read it: this design would be "
                             f"evaluated on another circuit than the others; start the job again")
-    _CIRCUITS[key] = circuit  # the most recent last
+        kept = (circuit, now)
+    _CIRCUITS[key] = kept  # the most recent last
     while len(_CIRCUITS) > _KEPT:
         del _CIRCUITS[next(iter(_CIRCUITS))]
-    return circuit
+    return kept[0]
+
+
+def _digests(circuit, netlist: str) -> dict[str, str]:
+    """The digests of every file ``circuit`` is built from, named as :attr:`Job.sources` names them."""
+    from blocks.optimise.job import source_digests
+
+    return source_digests(circuit.flat.files, Path(netlist).resolve().parent)
 
 
 def case_overrides(spec: EvalSpec, design: dict[str, float], case: tuple) -> dict[str, float]:

@@ -55,9 +55,10 @@ def _throwaway(checked, with_ranges):
     return Checked
 
 
-def test_a_checked_signal_must_name_a_port():
-    with pytest.raises(TypeError, match="checked signal 'w' names no port"):
-        check_declarations(_throwaway(("w",), True))
+@pytest.mark.parametrize("ref", ["w", "u.flow", "y.force"])
+def test_a_checked_signal_must_name_a_port_or_a_physical_ports_through_value(ref):
+    with pytest.raises(TypeError, match=f"checked signal '{ref}' is neither a port"):
+        check_declarations(_throwaway((ref,), True))
 
 
 def test_checked_signals_need_valid_ranges():

@@ -79,3 +79,14 @@ def test_a_process_keeps_a_few_circuits_only(tmp_path):
         _write_netlist(netlist, 10.0 + k)
         assert circuit_for(str(netlist)) is circuit_for(str(netlist))  # kept while in use
     assert len(evaluate._CIRCUITS) == evaluate._KEPT
+
+
+def test_without_digests_an_edited_netlist_is_read_again(tmp_path):
+    """A caller that gives no digests (a study script, a benchmark) gets the files as they are now."""
+    netlist = tmp_path / "pulse.yaml"
+    _write_netlist(netlist, 10.0)
+    first = circuit_for(str(netlist))
+    assert circuit_for(str(netlist)) is first
+    _write_netlist(netlist, 20.0)
+    again = circuit_for(str(netlist))
+    assert again is not first and again.vectors().values["q"] == 2 * first.vectors().values["q"]
