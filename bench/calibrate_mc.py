@@ -1188,10 +1188,25 @@ def _rerun_paragraph(archive: str, intro: str) -> str:
                "linear filter, give the same response)"
                if moved and all({"transport_delay@u", "transport_delay@xs"} <= set(r["before"]["accepted"])
                                 | set(r["after"]["accepted"]) for r in moved) else "")
+            + (" (each between the two ports of one element: a loss in series on either side of it, the same flow "
+               "through it, is the same effect)" if moved and all(_other_port_only(r) for r in moved) else "")
             + ", the right column's judgement in " + _count(len(judged), "seed") + ", the verdict in "
             + _count(len(verdicts), "seed") + "; chi^2/nu moved by at most " + most("chi2nu_after")
             + ", the held-out ratio by at most " + most("heldout_ratio") + ", an estimate by at most "
             + (f"{max(shifts):.2g}" if shifts else "0") + " of its standard error.")
+
+
+def _other_port_only(row: dict) -> bool:
+    """Whether a rerun's accepted effects differ from its record's only by the port of one element they sit
+    at (line_loss_turbulent@meter.b -> line_loss_turbulent@meter.a)."""
+    before, after = set(row["before"]["accepted"]), set(row["after"]["accepted"])
+
+    def element(key: str) -> tuple[str, str]:
+        candidate, _, place = key.partition("@")
+        return candidate, place.rsplit(".", 1)[0]
+
+    gone, new = sorted(map(element, before - after)), sorted(map(element, after - before))
+    return bool(gone) and gone == new and all("." in k.partition("@")[2] for k in before ^ after)
 
 
 def _rerank(rnd: dict) -> tuple[float, bool] | None:
