@@ -281,6 +281,13 @@ class Block:
         return ()
 
     @classmethod
+    def parameter_warnings(cls, values: dict) -> tuple[str, ...]:
+        """What these parameter ``values`` (by name) take the block outside of what its equations were made
+        for, though they are allowed (a setting beyond those a fit was made at): each said as a warning after
+        a run, never an error. Runs once per run, not per step."""
+        return ()
+
+    @classmethod
     def param(cls, name: str) -> Param:
         for p in cls.params:
             if p.name == name:

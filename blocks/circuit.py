@@ -34,7 +34,7 @@ from blocks.result import Result, column_name_problem
 from blocks.solve.run import nominal_vector
 from blocks.solve.settings import SolverSettings, read_settings
 from blocks.units import GENERIC, UnitError, parse_unit
-from blocks.valid_ranges import monitors, range_warnings
+from blocks.valid_ranges import monitors, parameter_warnings, range_warnings
 
 P_BEYOND = 1e9  # Pa (10000 bar): a pressure no hydraulic circuit reaches (Circuit._beyond_hydraulics)
 
@@ -209,7 +209,7 @@ class Circuit:
             state_names=[s.name for s in self.structure.states for _ in range(s.size)],
             stats=outcome.stats,
             seconds=elapsed,
-            warnings=self._cavitation(outcome, vec)
+            warnings=self._cavitation(outcome, vec) + parameter_warnings(self, vec.values)
             + range_warnings(self, outcome.t, outcome.Y[:, len(self.outputs):], vec.values),
         )
         if outcome.status != 0:

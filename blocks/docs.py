@@ -454,7 +454,8 @@ def file_format() -> str:
         "(a hose's rated pressure, a motor's top speed) is a `range_check` block on the signal. The "
         "warnings reach `vphs run`'s console, an optimisation's records and report, a sweep's report and "
         "a calibration's verdict, as a cavity does. Between two samples nothing is seen: the check is as "
-        "fine as `dt_out`.",
+        "fine as `dt_out`. A parameter allowed but outside what a block was made for (the motion-control "
+        "valve's flow force at a crack setting beyond those of its fit) is said the same way, once per run.",
         "",
         "### Simulation",
         "",

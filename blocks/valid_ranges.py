@@ -15,6 +15,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from blocks.block import Block
 from blocks.library.signal.linear import UNLIMITED
 from blocks.units import GENERIC
 
@@ -70,6 +71,14 @@ def range_warnings(circuit, t: np.ndarray, observed: np.ndarray, values: dict) -
                      f"at t = {t[outside[0]]:.4g} s, reaching {_shown(column[worst], monitor.unit)} at "
                      f"t = {t[worst]:.4g} s; outside it {valid.outside}")
     return found
+
+
+def parameter_warnings(circuit, values: dict) -> list[str]:
+    """A line for each block whose parameters (a run's ``values``) lie outside what its equations were made
+    for (:meth:`Block.parameter_warnings`)."""
+    return [f"{comp}: {line}" for comp, spec in circuit.flat.components.items()
+            if spec.cls.parameter_warnings.__func__ is not Block.parameter_warnings.__func__
+            for line in spec.cls.parameter_warnings(circuit.block_values(comp, values))]
 
 
 def _range_text(valid, unit: str) -> str:

@@ -15,6 +15,8 @@ Z1 = 4.0847e5 * 1e5
 """z1 of eq. 3.13 [Pa^1.5*s/m^3]: pF = P(Q_lpm)*z1*Q/sqrt(dp), Q in m^3/s and dp in Pa."""
 LPM = 60000.0
 """l/min per m^3/s (the thesis's Q_l/min = Q*60000)."""
+FIT_CRACKS = (95.4e5, 211.5e5)
+"""The crack settings eq. 3.13's polynomials were fitted at, lowest and highest [Pa] (table 3.2)."""
 
 
 @njit(cache=True)
@@ -157,7 +159,7 @@ class MotionControlValveVAA(Block):
     With the flow force on, a run in which the flow out of C1 or C2 (C1.flow < 0 delivered: the port's net
     flow, the relief flow while it meters less the closed check valve's leak) goes beyond q_ff_max at an
     output sample is warned of: there the force is the fit's end value, an extrapolation the thesis did not
-    make.
+    make; so is a crack setting outside those of the fit (95.4 to 211.5 bar, table 3.2).
 
     Sizes (presets, table 2.8): VF050, VF150, VF250. Spring stiffnesses and the spool response are measured
     for the VF250 only (table 2.9: kp1 + kp2 = 895 bar/unit, split 495/400): they are the defaults for all
@@ -223,6 +225,16 @@ class MotionControlValveVAA(Block):
         held = (f"the flow force's polynomial (eq. 3.13, fitted up to q_ff_max = {values['q_ff_max'] * LPM:.4g} "
                 f"l/min of relief flow) is held at its end value")
         return tuple(ValidRange(f"{port}.flow", -values["q_ff_max"], math.inf, held) for port in ("C1", "C2"))
+
+    @classmethod
+    def parameter_warnings(cls, values: dict) -> tuple[str, ...]:
+        """With the flow force on: a crack setting outside those its polynomials were fitted at."""
+        lo, hi = FIT_CRACKS
+        if values["flow_force"] == 0.0 or lo <= values["p_crack"] <= hi:
+            return ()
+        return (f"p_crack = {values['p_crack'] / 1e5:.4g} bar is outside the crack settings the flow force was "
+                f"fitted at ({lo / 1e5:g} to {hi / 1e5:g} bar, table 3.2): its polynomial for the nearest is "
+                f"extrapolated",)
 
     @classmethod
     def check_values(cls, values):

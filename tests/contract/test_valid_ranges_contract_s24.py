@@ -65,3 +65,11 @@ def test_checked_signals_need_valid_ranges():
     with pytest.raises(TypeError, match="no valid_ranges"):
         check_declarations(_throwaway(("u",), False))
     check_declarations(_throwaway(("u",), True))
+
+
+@pytest.mark.parametrize("name", sorted(REGISTRY))
+def test_parameter_warnings_are_lines_and_none_at_the_defaults(name):
+    """Block.parameter_warnings: a tuple of one-line texts; a block's defaults are inside what it was made for."""
+    cls = REGISTRY[name]
+    said = cls.parameter_warnings(default_params(cls))
+    assert isinstance(said, tuple) and said == (), (name, said)

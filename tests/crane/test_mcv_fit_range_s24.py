@@ -1,9 +1,10 @@
-"""The VAA motion-control valve's flow force (eq. 3.13) is a fit up to q_ff_max of relief flow; beyond it
-the block holds the polynomial at its end. A run that goes there is warned of (blocks/valid_ranges.py):
-checked on the chapter-3 test rig's step test (netlists/rig/mcv_rig_step.yaml, relief flow up to about
-100 l/min) with q_ff_max lowered to 60 l/min: its largest value is the rig's flow meter's (which reads
-the flow the valve meters out, within its sensor's 1 % here); with the flow force off the fit's range does
-not apply."""
+"""The VAA motion-control valve's flow force (eq. 3.13) is a fit up to q_ff_max of relief flow, at crack
+settings from 95.4 to 211.5 bar (table 3.2). Beyond the flow the block holds the polynomial at its end, and
+beyond the settings it extrapolates the nearest one's; a run that goes there is warned of
+(blocks/valid_ranges.py). Checked on the chapter-3 test rig's step test (netlists/rig/mcv_rig_step.yaml,
+relief flow up to about 100 l/min) with q_ff_max lowered to 60 l/min: its largest value is the rig's flow
+meter's (which reads the flow the valve meters out, within its sensor's 1 % here); with the flow force off
+the fit's range does not apply."""
 
 from __future__ import annotations
 
@@ -56,3 +57,17 @@ def test_the_ranges_are_the_relief_flows_out_of_both_c_ports():
     ranges = MotionControlValveVAA.valid_ranges(values)
     assert [(r.signal, r.lower, r.upper) for r in ranges] == [("C1.flow", -1e-3, np.inf), ("C2.flow", -1e-3, np.inf)]
     assert MotionControlValveVAA.valid_ranges(values | {"flow_force": 0.0}) == ()
+
+
+def crack_warnings(result) -> list[str]:
+    return [w for w in result.warnings if "crack settings the flow force was fitted at" in w]
+
+
+def test_a_crack_setting_beyond_the_fits_is_warned_of():
+    """The flow force's polynomials were fitted at 95.4, 152 and 211.5 bar (table 3.2): 230 bar (the bridge
+    crane's setting) extrapolates; 211.5 bar does not; with the flow force off nothing is fitted."""
+    (line,) = crack_warnings(run(p_crack=230e5))
+    assert line == ("mcv: p_crack = 230 bar is outside the crack settings the flow force was fitted at (95.4 to "
+                    "211.5 bar, table 3.2): its polynomial for the nearest is extrapolated")
+    assert crack_warnings(run(p_crack=211.5e5)) == []
+    assert crack_warnings(run(p_crack=230e5, flow_force=0.0)) == []
