@@ -230,7 +230,7 @@ class MotionControlValveVAA(Block):
     def parameter_warnings(cls, values: dict) -> tuple[str, ...]:
         """With the flow force on: a crack setting outside those its polynomials were fitted at."""
         lo, hi = FIT_CRACKS
-        if values["flow_force"] == 0.0 or lo <= values["p_crack"] <= hi:
+        if values["flow_force"] == 0.0 or lo * (1.0 - 1e-9) <= values["p_crack"] <= hi * (1.0 + 1e-9):
             return ()
         return (f"p_crack = {values['p_crack'] / 1e5:.4g} bar is outside the crack settings the flow force was "
                 f"fitted at ({lo / 1e5:g} to {hi / 1e5:g} bar, table 3.2): its polynomial for the nearest is "
