@@ -425,16 +425,20 @@ def test_few_degrees_of_freedom_are_warned_of_even_when_quiet(tmp_path, capsys):
 
 def test_no_effect_is_accepted_that_leaves_no_degree_of_freedom(tmp_path):
     """Two points, nu = 1: a sensor gain on p1 took the last degree of freedom (chi^2 79.5 -> 4e-23, reported
-    "on nu = 1" as the clamp had it) and was accepted: an exact fit that no test can judge."""
+    "on nu = 1" as the clamp had it) and was accepted: an exact fit that no test can judge. Every candidate
+    refitted here takes it; which are refitted follows the scores (since session 24's fix of the relief valve's
+    spool friction a laminar line loss and that friction rank before the sensor gain): the test refits the 8
+    best and asks that those that pass every other test are refused for this alone."""
     from blocks.calibrate.run import calibrate
 
     (tmp_path / "data.csv").write_text(DATA)
     (tmp_path / "exp.yaml").write_text(yaml.safe_dump(changed(free={"ret.Cd": {"initial": 0.8, "lower": 0.5,
-                                                                                "upper": 1}})))
+                                                                                "upper": 1}}, trace={"top": 8})))
     cal = calibrate(tmp_path / "exp.yaml", tmp_path / "out")
     assert not cal.accepted and cal.final.fit.n - cal.final.fit.p == 1
-    gain = next(rf for rf in cal.rounds[0].decision.refits if rf.score.place.key == "sensor_gain@p1")
-    assert gain.dbic < -10 and gain.reasons == ["no degree of freedom left beside it (4 readings, 4 unknowns)"]
+    alone = [rf for rf in cal.rounds[0].decision.refits
+             if rf.reasons == ["no degree of freedom left beside it (4 readings, 4 unknowns)"]]
+    assert alone and all(rf.dbic < -10 for rf in alone)
     assert any(line.startswith("unexplained discrepancy remains") for line in cal.verdict)
 
 
