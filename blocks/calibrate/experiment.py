@@ -21,6 +21,7 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
       "2": {p_set: "p_set + 15 bar"}   # or an expression over the netlist's parameters (evaluated once)
     group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group:
                                          # one row per group, 'crack [bar]' in a unit of p_set's dimension
+                                         # (a name the table sets is not also set under groups:)
     free:                                # the declared free parameters, values in any unit of their dimension
       k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}   # step: the finite-difference step (> 0)
       shaft.initial: {initial: "0 rpm", per: group}   # one value per group (a time series: per run); a start
@@ -683,8 +684,14 @@ def _read_group_table(spec, located, base: Path, groups: dict, param_name, param
             raise table.error(f"group '{label}' has {len(rows)} rows (lines {', '.join(map(str, lines[:-1]))} and "
                               f"{lines[-1]}); a group table gives one row per group, else which values the group "
                               f"takes is ambiguous", spec.group, int(rows[1]))
+    written = {str(label): (label, values) for label, values in spec.groups.items()}
     for k, label in enumerate(table.labels):
         for column, target in gt.columns.items():
+            if target in written.get(label, (None, {}))[1]:
+                key = written[label][0]
+                raise located.error(("groups", key, target), f"groups.{shown_key(key)}.{target} is also set by "
+                                    f"group_table.columns.{shown_key(column)} ({gt.file}); set it in one of "
+                                    f"the two, else which value group {label} takes is ambiguous")
             value = float(table.columns[column][k])
             if not np.isfinite(value):
                 raise table.error(f"no value for group '{label}' (an empty cell); it sets {target}", column, k)
