@@ -226,13 +226,24 @@ def quantity_name(dims: Unit) -> str:
 
 
 def nearest(name: str, choices, n: int = 3) -> list[str]:
-    """The closest names to ``name`` among ``choices`` (for 'did you mean' hints), ignoring case first."""
+    """The closest names to ``name`` among ``choices`` (for 'did you mean' hints), ignoring case first.
+
+    A name without a dot is also compared with each dotted choice's last part, so that ``zeta2`` finds
+    ``relief.zeta`` (whose whole name is too long to look alike) before ``ret.A`` (which looks alike by
+    three letters in five). A tie goes to the whole name's likeness (``k_z``: ``k_s`` before ``relief.k_s``)."""
     import difflib
 
     choices = list(choices)
     same = [c for c in choices if c.lower() == name.lower()]
-    lowered = {c.lower(): c for c in choices}
-    close = [lowered[m] for m in difflib.get_close_matches(name.lower(), list(lowered), n=n, cutoff=0.6)]
+    wanted = name.lower()
+    scored = {}  # as difflib.get_close_matches: the best first, then in reverse order of the lowered name
+    for choice in choices:
+        lowered = choice.lower()
+        parts = [lowered] + ([lowered.rsplit(".", 1)[1]] if "." in lowered and "." not in wanted else [])
+        scores = [difflib.SequenceMatcher(None, part, wanted).ratio() for part in parts]
+        if scores[0] >= 0.6 or max(scores) >= 0.75:  # a short last part looks alike by chance more easily
+            scored[lowered] = (max(scores), scores[0], lowered, choice)
+    close = [entry[-1] for entry in sorted(scored.values(), reverse=True)[:n]]
     return list(dict.fromkeys(same + close))[:n]
 
 

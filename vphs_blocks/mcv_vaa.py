@@ -6,7 +6,7 @@ import math
 from numba import njit
 
 from blocks.block import Block, Param, State, ValidRange, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_max0, smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, smooth_max0, smooth_step, turbulent_flow
 from blocks.library.signal.linear import lowpass2_acceleration
 from blocks.registry import register
 
@@ -112,7 +112,8 @@ class MotionControlValveVAA(Block):
                                 V line (cross-line relief, text at fig. 2.14)          (A_cv2, p_cv2_crack, p_cv2_open)
         check valve law: A = A_leak + (A_max - A_leak)*smooth_step(dp, p_crack, p_open - p_crack)
                          (the library check valve's C1 cubic; the thesis's Simscape check valve opens
-                         linearly between the same two pressures: same end points, same midpoint)
+                         linearly between the same two pressures: same end points, same midpoint);
+                         A_leak <= A_cv1, A_cv2 (checked when the values are set)
         every orifice:   q = Cd*A*sqrt(2/rho) * dp/(dp^2 + dp_t^2)^(1/4)
         d(pt)/dt = beta/V_t * (q_r1 + q_r2 - q_cv2,1 - q_cv2,2)
     Delivered to the nets: q_V1 = q_cv2,1 - q_cv1,1, q_V2 = q_cv2,2 - q_cv1,2, q_C1 = q_cv1,1 - q_r1,
@@ -244,7 +245,7 @@ class MotionControlValveVAA(Block):
                         f"p_cv{k}_crack = {values[f'p_cv{k}_crack']:g} Pa")
         if values["u_w"] >= 0.5:
             return f"u_w = {values['u_w']:g} must be below 0.5"
-        return None
+        return leakage_problem(values, "A_cv1", "check valve 1") or leakage_problem(values, "A_cv2", "check valve 2")
 
     @staticmethod
     def derivatives(V1, V2, C1, C2, pt, u1, du1, u2, du2, alpha, p_crack, A_prv, A_cv1, p_cv1_crack,

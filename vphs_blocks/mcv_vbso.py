@@ -3,7 +3,7 @@
 import math
 
 from blocks.block import Block, Param, State, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import smooth_max0, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, smooth_max0, turbulent_flow
 from blocks.library.signal.linear import lowpass2_acceleration
 from blocks.registry import register
 from vphs_blocks.mcv_vaa import check_valve_flow, smooth_unit
@@ -17,6 +17,7 @@ class OverCentreValveVBSO(Block):
 
     Hydraulics (fig. 2.23: "one check valve in parallel with each relief valve"; no internal node):
         check valve, line i:  V_i -> C_i   A = A_leak + (A_cv - A_leak)*smooth_step(dp, p_cv_crack, p_cv_open - p_cv_crack)
+                              (A_leak <= A_cv, checked when the values are set)
         relief valve, line i: C_i -> V_i   a_i = A_prv*sat(u_i)                                 (eqs. 2.24, 2.25)
         every orifice:        q = Cd*A*sqrt(2/rho) * dp/(dp^2 + dp_t^2)^(1/4)
     Delivered to the nets: q_V_i = q_r,i - q_cv,i, q_C_i = q_cv,i - q_r,i (the valve stores no oil).
@@ -87,7 +88,7 @@ class OverCentreValveVBSO(Block):
                     f"{values['p_cv_crack']:g} Pa")
         if values["u_w"] >= 0.5:
             return f"u_w = {values['u_w']:g} must be below 0.5"
-        return None
+        return leakage_problem(values, "A_cv", "check valve")
 
     @staticmethod
     def derivatives(V1, V2, C1, C2, u1, du1, u2, du2, alpha, p_crack1, p_crack2, A_prv, A_cv, p_cv_crack,

@@ -69,7 +69,7 @@ ONCE = ": an expression here is evaluated once, with the netlist's values; write
                                       "point" + ONCE),
     ('{relief.zeta: 0.9, ret.Cd: "relief.zeta - 0.2", relief.wn: "300 Hz*ret.Cd"}', "",
      "groups.2.relief.wn: '300 Hz*ret.Cd' reads ret.Cd, which is given by an expression in groups.2 too" + ONCE),
-    ('{p_set: "p_sett + 1 bar"}', "", "unknown parameter 'p_sett' in groups.2.p_set (did you mean p_set?)"),
+    ('{p_set: "p_sett + 1 bar"}', "", "unknown parameter 'p_sett' in groups.2.p_set (did you mean p_set, relief.p_set?)"),
     ('{p_set: "p_set*2 m"}', "", "groups.2.p_set: wrong unit: 'p_set*2 m' is in kg*s^-2, but p_set is in "
                                  "m^-1*kg*s^-2"),
     ('{p_set: "p_set + 10 barr"}', "", "groups.2.p_set: unknown unit 'barr' (did you mean bar, mbar?)"),

@@ -1,7 +1,7 @@
 """Check (non-return) valve."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import opening_range_problem, smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, opening_range_problem, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -16,7 +16,8 @@ class CheckValve(Block):
     s is the C1 cubic ramp: 0 for dp <= p_crack (closed: only the leakage area A_leak passes flow, in
     either direction), 1 for dp >= p_open (fully open, area A_max), smooth in between. p_open > p_crack
     is required (checked when the values are set: p_open <= p_crack would be a step). The leakage area keeps
-    the closed valve well-conditioned.
+    the closed valve well-conditioned; A_leak <= A_max is required (checked: above it the closed valve would
+    pass more than the open one).
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.
     """
@@ -33,7 +34,7 @@ class CheckValve(Block):
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
-        return opening_range_problem(values, "p_crack")
+        return opening_range_problem(values, "p_crack") or leakage_problem(values, "A_max", "valve")
 
     @staticmethod
     def derivatives(a, b, A_max, p_crack, p_open, A_leak, Cd, dp_t, rho):

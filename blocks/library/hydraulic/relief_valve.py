@@ -1,7 +1,7 @@
 """Direct-acting pressure relief valve."""
 
 from blocks.block import Block, Param, fluid_params, hydraulic
-from blocks.library.hydraulic.flow import opening_range_problem, smooth_step, turbulent_flow
+from blocks.library.hydraulic.flow import leakage_problem, opening_range_problem, smooth_step, turbulent_flow
 from blocks.registry import register
 
 
@@ -15,7 +15,7 @@ class ReliefValve(Block):
 
     s is the C1 cubic ramp: 0 for dp <= p_set (closed, only leakage A_leak), 1 for dp >= p_open (fully
     open, area A_max); p_open - p_set is the pressure override (regulation range) and must be > 0 for a
-    smooth opening (checked when the values are set). Same law as the check valve, with a working-pressure setting.
+    smooth opening (checked when the values are set), and A_leak <= A_max (checked). Same law as the check valve, with a working-pressure setting.
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.
     """
@@ -32,7 +32,7 @@ class ReliefValve(Block):
 
     @classmethod
     def check_values(cls, values: dict) -> str | None:
-        return opening_range_problem(values, "p_set")
+        return opening_range_problem(values, "p_set") or leakage_problem(values, "A_max", "valve")
 
     @staticmethod
     def derivatives(a, b, p_set, p_open, A_max, A_leak, Cd, dp_t, rho):
