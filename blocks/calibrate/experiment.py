@@ -233,6 +233,12 @@ class Experiment:
     def outputs(self) -> list[Channel]:
         return [c for c in self.channels if c.role == "output"]
 
+    @property
+    def fits_inputs(self) -> bool:
+        """Whether the fit takes an imposed input as a latent value (its levels, or a trace's knots) rather than
+        as the netlist or the data give it."""
+        return any(c.latent or c.trace is not None for c in self.inputs)
+
     def error(self, path: tuple, message: str) -> NetlistError:
         return self.located.error(path, message)
 

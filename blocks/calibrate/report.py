@@ -288,8 +288,10 @@ def markdown(cal, info: dict) -> str:
     if info["calibrated_netlist"]:
         one_run = data.kind == "time" and len(data.groups) <= 1
         L += ["", f"Calibrated netlist: `{info['calibrated_netlist']}`, the final model with every fitted parameter "
-                  f"at its final value" + (" and the fitted command: `vphs run` reproduces the fit (sensor "
-                                           "corrections aside)." if one_run else
+                  f"at its final value" + ((" and the fitted command" if cal.exp.fits_inputs else
+                                            " and the netlist's own command (no input is fitted)")
+                                           + ": `vphs run` reproduces the fit (sensor corrections aside)."
+                                           if one_run else
                                            ": `vphs run` simulates the calibrated model at the netlist's own "
                                            "inputs (the experiment's differ point by point or run by run).")
               + " It sets every digit of each value; its header lists them for reading, each to the digits its "

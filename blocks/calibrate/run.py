@@ -282,7 +282,8 @@ def write_calibrated(cal: Calibration) -> Path | None:
             missed.append(name)
     listed = "".join(f"\n  {n} = {shown.get(n, v) if not isinstance(v, list) else f'({len(v)} knots)'}"
                      for n, v in values[len(cal.exp.overrides):]) or " none"
-    inputs = ("The command is the fitted one (its latent levels or knots): `vphs run` reproduces the fit, sensor "
+    inputs = (("The command is the fitted one (its latent levels or knots)" if cal.exp.fits_inputs else
+               "The command is the netlist's own (no input is fitted)") + ": `vphs run` reproduces the fit, sensor "
               "corrections aside." if one_run else
               "The imposed inputs (each steady point's, or each run's command) and per-group values are the "
               "netlist's own: `vphs run` simulates the calibrated model at those.")
