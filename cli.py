@@ -804,8 +804,11 @@ def cmd_linearise(args) -> int:
     model = linearise(circuit, point, inputs, args.output or None)
     found = modes(model)
     out_units = [logged[name].display_unit for name in model.output_names]
-    print(f"# {args.netlist} linearised about {point.how}")
-    for note in _linear_notes(model, point, found):
+    from blocks.regularisation import band_notes
+
+    notes = [f"{args.netlist} linearised about {point.how}"] + _linear_notes(model, point, found) \
+        + band_notes(circuit, point)
+    for note in notes:
         print(f"# {note}")
     shown = [f"{name} = {value / parse_unit(logged[name].display_unit).factor:.6g}"
              + ("" if logged[name].display_unit == "1" else f" {logged[name].display_unit}")
@@ -825,7 +828,7 @@ def cmd_linearise(args) -> int:
               file=sys.stderr)
     writes = []
     if args.modes:
-        text = report.modes_csv(found)
+        text = report.modes_csv(found, notes)
         writes.append((Path(args.modes), lambda tmp: tmp.write_text(text, encoding="utf-8")))
     if args.state_space:
         matrix = report.state_space_csv(model)
