@@ -331,9 +331,10 @@ class ValidRange:
 class Regularisation:
     """A regularised signal's band, |signal| < width (SI), in which the block's law is its smoothing's, not
     the machine's, and what a linearisation inside it takes for physics, as the note says it: "fric: the
-    point lies inside the Coulomb friction's smoothing band (|v| = 6.6e-06 m/s < 3*v_w = 0.003 m/s): there
-    its slope Fc/v_w = 3e+05 N*s/m is the regularisation's, not physics; ... (a real Coulomb friction at rest
-    sticks or slips)".
+    point lies inside the Coulomb friction's smoothing band (|v| = 6.59e-06 m/s < 3*v_w = 0.003 m/s): there
+    its slope Fc/v_w = 3e+05 N*s/m is the regularisation's, not physics, and the modes that move it are
+    damped by the smoothing, not by the machine (a real Coulomb friction at rest sticks, or slips once the
+    force on it exceeds its breakaway)".
 
     ``width_text`` is how the width follows from the parameters ("3*v_w"); ``slope`` [SI, ``slope_unit``]
     the smoothed law's slope through 0, written ``slope_text`` ("Fc/v_w"), None where it depends on the
