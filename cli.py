@@ -804,8 +804,12 @@ def cmd_linearise(args) -> int:
     model = linearise(circuit, point, inputs, args.output or None)
     found = modes(model)
     out_units = [logged[name].display_unit for name in model.output_names]
-    print(f"# {args.netlist} linearised about {point.how}")
-    for note in _linear_notes(model, point, found):
+    from blocks.regularisation import band_notes
+
+    notes = [f"{args.netlist} linearised about {point.how}"] \
+        + _linear_notes(model, point, found, circuit.settings.t_end - circuit.settings.t_start) \
+        + band_notes(circuit, point)
+    for note in notes:
         print(f"# {note}")
     shown = [f"{name} = {value / parse_unit(logged[name].display_unit).factor:.6g}"
              + ("" if logged[name].display_unit == "1" else f" {logged[name].display_unit}")
@@ -825,7 +829,7 @@ def cmd_linearise(args) -> int:
               file=sys.stderr)
     writes = []
     if args.modes:
-        text = report.modes_csv(found)
+        text = report.modes_csv(found, notes)
         writes.append((Path(args.modes), lambda tmp: tmp.write_text(text, encoding="utf-8")))
     if args.state_space:
         matrix = report.state_space_csv(model)
@@ -920,9 +924,10 @@ def _linear_inputs(written: list[str], circuit) -> tuple[list[str], list[str]]:
     return names, units
 
 
-def _linear_notes(model, point, found) -> list[str]:
+def _linear_notes(model, point, found, run: float) -> list[str]:
     """What to know about the point: the states that only integrate (a steady motion), a mode that grows
-    (an unstable point), and the fastest-changing state when the point is not at rest."""
+    (an unstable point; a slow growth, one that doubles over more than SLOW_GROWTH times the netlist's ``run``
+    [s], said apart), and the fastest-changing state when the point is not at rest."""
     import math
 
     import numpy as np
@@ -950,13 +955,28 @@ def _linear_notes(model, point, found) -> list[str]:
                          f"point holds where {'it is' if len(held) == 1 else 'they are'}, not along the motion")
     fastest = max((abs(m.eigenvalue) for m in found), default=0.0)
     growing = [m for m in found if m.eigenvalue.real > UNSTABLE * fastest]
-    if growing:
-        lam = max(growing, key=lambda m: m.eigenvalue.real).eigenvalue
+    slow = [m for m in growing if math.log(2) / m.eigenvalue.real > SLOW_GROWTH * run]
+    unstable = [m for m in growing if m not in slow]
+    still = at_rest(model, point)
+    if unstable:
+        lam = max(unstable, key=lambda m: m.eigenvalue.real).eigenvalue
         shown = f"{lam.real:.4g}" + (f" ± {abs(lam.imag):.4g}j" if lam.imag else "")
-        notes.append(f"UNSTABLE: {len(growing)} mode{'s grow' if len(growing) > 1 else ' grows'} (fastest: "
+        notes.append(f"UNSTABLE: {len(unstable)} mode{'s grow' if len(unstable) > 1 else ' grows'} (fastest: "
                      f"lambda = {shown}, doubling in {math.log(2) / lam.real:.3g} s): the circuit leaves this "
                      f"point, and its steady-state gains describe a state it does not stay in")
-    if not at_rest(model, point):
+    if slow:
+        lam = max(slow, key=lambda m: m.eigenvalue.real)
+        doubling = math.log(2) / lam.eigenvalue.real
+        shown = f"{lam.eigenvalue.real:.4g}" + (f" ± {lam.eigenvalue.imag:.4g}j" if lam.oscillating else "")
+        what = ("about a point not at rest this is likely the drift of the motion under way (the linear model's "
+                "terms that carry the point's own rates: a chamber whose volume changes with the stroke while its "
+                "pressure falls), not an instability of the motion" if not still else
+                "the point is unstable, but the circuit leaves it far more slowly than the run lasts; its steady-state "
+                "gains describe what it does on time scales well below the doubling time")
+        notes.append(f"SLOW GROWTH: {len(slow)} mode{'s grow' if len(slow) > 1 else ' grows'}, mainly in "
+                     f"{lam.participation[0][0]} (fastest: lambda = {shown}, doubling in {doubling:.3g} s, "
+                     f"{doubling / run:.2g} x the netlist's run of {run:g} s): {what}")
+    if not still:
         resting = [j for j, name in enumerate(model.state_names) if name not in moving]
         scaled = np.abs(point.rates) / model.state_nominal
         j = resting[int(np.argmax(scaled[resting]))]
@@ -967,6 +987,14 @@ def _linear_notes(model, point, found) -> list[str]:
 
 
 UNSTABLE = 1e-9  # a mode grows when Re(lambda) exceeds this fraction of the fastest |lambda| (not round-off)
+SLOW_GROWTH = 100.0
+"""A growing mode whose doubling time exceeds this many times the netlist's run (t_end - t_start) is said as a
+slow growth, not as UNSTABLE: it grows by under 0.7 % over the whole run (2^(1/100)), which no trace of the run
+shows, and about a point the run passes through at rates of its own the linear model cannot tell it from the
+point's own change: its terms that carry those rates (a chamber's pressure falling at dp/dt, whose volume the
+stroke sets, gives d(dp/dt)/dx = -(dV/dx)/V*dp/dt) are of the size of such a growth. About a held boom creeping
+through its counterbalance valve's leak (-0.025 mm/s) they turned the stroke's integrator into a mode doubling
+in 2.5e4 s, 4000 runs' time; an unstable servo or a load balanced on its valve doubles within the run."""
 
 
 COMMANDS = {"validate": cmd_validate, "run": cmd_run, "blocks": cmd_blocks, "graph": cmd_graph, "diff": cmd_diff,

@@ -200,6 +200,15 @@ class Block:
     the block (a signal port ``u``, a port's flow ``C1.flow``): they are observed at the output samples,
     and a run in which one leaves its range says so in a warning (a table's input beyond its breakpoints,
     a model outside the range it was fitted on)."""
+    regularised: ClassVar[tuple[str, ...]] = ()
+    """Signals, named as ``checked``'s are (a port ``port``, a port's flow ``a.flow``), across whose zero the
+    block smooths a law that jumps there (a Coulomb friction's sign(v) as tanh(v/v_w)): :meth:`regularisations`
+    gives, from the parameters, each one's band and the slope the smoothing gives the law in it. A
+    simulation is right to cross such a band (the law outside it is the machine's); a linearisation about a
+    point inside it takes the smoothing's slope as the machine's (a friction's Fc/v_w as a damper), and
+    `vphs linearise` says so (:mod:`blocks.regularisation`). Only a smoothing whose slope the machine does
+    not have is declared: not a square-root orifice law's near dp = 0 (a real orifice is laminar there,
+    :func:`blocks.library.hydraulic.flow.turbulent_flow`)."""
     rigid_link: ClassVar[tuple[str, str] | None] = None
     """(a, b): the two ports are joined rigidly, w_b = ratio(params) * w_a (gears, rack and pinion)."""
     outputs: ClassVar[Callable | None] = None
@@ -281,6 +290,13 @@ class Block:
         return ()
 
     @classmethod
+    def regularisations(cls, values: dict) -> tuple["Regularisation", ...]:
+        """The regularisation band of each signal the block declares ``regularised``, from its parameter
+        ``values`` by name (none where these values leave no jump to smooth: a friction of 0). Runs once per
+        linearisation, not per step."""
+        return ()
+
+    @classmethod
     def parameter_warnings(cls, values: dict) -> tuple[str, ...]:
         """What these parameter ``values`` (by name) take the block outside of what its equations were made
         for, though they are allowed (a setting beyond those a fit was made at): each said as a warning after
@@ -309,6 +325,30 @@ class ValidRange:
     lower: float
     upper: float
     outside: str
+
+
+@dataclass(frozen=True)
+class Regularisation:
+    """A regularised signal's band, |signal| < width (SI), in which the block's law is its smoothing's, not
+    the machine's, and what a linearisation inside it takes for physics, as the note says it: "fric: the
+    point lies inside the Coulomb friction's smoothing band (|v| = 6.59e-06 m/s < 3*v_w = 0.003 m/s): there
+    its slope Fc/v_w = 3e+05 N*s/m is the regularisation's, not physics, and the modes that move it are
+    damped by the smoothing, not by the machine (a real Coulomb friction at rest sticks, or slips once the
+    force on it exceeds its breakaway)".
+
+    ``width_text`` is how the width follows from the parameters ("3*v_w"); ``slope`` [SI, ``slope_unit``]
+    the smoothed law's slope through 0, written ``slope_text`` ("Fc/v_w"), None where it depends on the
+    point (a motor's friction on its pressure: ``slope_text`` alone is said); ``law`` names the smoothed law
+    ("the Coulomb friction") and ``real`` what the machine does in the band instead."""
+
+    signal: str
+    width: float
+    width_text: str
+    slope: float | None
+    slope_text: str
+    slope_unit: str
+    law: str
+    real: str
 
 
 def argument_names(function: Callable) -> list[str]:
@@ -367,14 +407,17 @@ def check_declarations(cls: type[Block]) -> None:
         if any(arg not in {p.name for p in cls.params} for arg in argument_names(cls.ratio)):
             raise TypeError(f"{owner}.ratio may take parameters only")
     through = {PortKind.HYDRAULIC: "flow", PortKind.ROTATIONAL: "torque", PortKind.TRANSLATIONAL: "force"}
-    for ref in cls.checked:
-        port_name, _, what = ref.partition(".")
-        port = next((p for p in cls.ports if p.name == port_name), None)
-        if port is None or (what and what != through.get(port.kind)):
-            raise TypeError(f"{owner}: checked signal '{ref}' is neither a port of the block nor a physical "
-                            f"port's flow, torque or force ('<port>.flow')")
+    for what_kind, refs in (("checked", cls.checked), ("regularised", cls.regularised)):
+        for ref in refs:
+            port_name, _, what = ref.partition(".")
+            port = next((p for p in cls.ports if p.name == port_name), None)
+            if port is None or (what and what != through.get(port.kind)):
+                raise TypeError(f"{owner}: {what_kind} signal '{ref}' is neither a port of the block nor a "
+                                f"physical port's flow, torque or force ('<port>.flow')")
     if cls.checked and cls.valid_ranges.__func__ is Block.valid_ranges.__func__:
         raise TypeError(f"{owner}: declares checked signals {list(cls.checked)} but no valid_ranges()")
+    if cls.regularised and cls.regularisations.__func__ is Block.regularisations.__func__:
+        raise TypeError(f"{owner}: declares regularised signals {list(cls.regularised)} but no regularisations()")
     names = {p.name for p in cls.params}
     for preset, values in cls.presets.items():
         unknown = set(values) - names

@@ -65,7 +65,7 @@ class Circuit:
         check_signal_dimensions(flat)
         self.generator = Generator(self.structure)
         self.outputs = self._resolve_outputs()
-        self.monitors = monitors(self)  # observed after the outputs (blocks.valid_ranges)
+        self.monitors = monitors(self)  # observed after the outputs (blocks.valid_ranges, blocks.regularisation)
         self.settings: SolverSettings = read_settings(flat)
         self.pattern = jacobian_pattern(self.structure)
         self.nominal = nominal_vector(self)  # each state's nominal magnitude, SI (Newton's scale)
@@ -93,7 +93,8 @@ class Circuit:
 
     @property
     def n_observed(self) -> int:
-        """The values ``observe`` writes: the logged outputs, then the checked signals (:attr:`monitors`)."""
+        """The values ``observe`` writes: the logged outputs, then the checked and regularised signals
+        (:attr:`monitors`)."""
         return len(self.outputs) + len(self.monitors)
 
     # ---- parameters -----------------------------------------------------------------------------------

@@ -191,6 +191,9 @@ def block_reference(cls: type[Block], level: int = 2) -> str:
     if cls.checked:
         lines.append(f"Checked after a run against its valid range (a warning if it leaves it): "
                      f"{', '.join(f'`{c}`' for c in cls.checked)}.")
+    if cls.regularised:
+        lines.append(f"Smooths a jump at zero of {', '.join(f'`{c}`' for c in cls.regularised)} over a band "
+                     f"(`vphs linearise` about a point inside it says so).")
     for group in cls.same_quantity:
         lines.append(f"{', '.join(f'`{p}`' for p in group)} carry the same quantity (one tolerance scale).")
     for port, given_by in cls.signal_dimensions.items():

@@ -52,8 +52,12 @@ def modes_table(found: list[Mode]) -> str:
     return "\n".join("  ".join(cell.ljust(w) for cell, w in zip(r[:-1], widths)) + "  " + r[-1] for r in rows)
 
 
-def modes_csv(found: list[Mode]) -> str:
+def modes_csv(found: list[Mode], notes: list[str] | tuple = ()) -> str:
+    """The modes as CSV, one row each, after ``notes`` as comment lines ('# ...', as the data files' and the
+    state-space CSV's): the point and what is printed of it (a growing mode, a smoothing band), so the file
+    says what the console said."""
     buffer = io.StringIO()
+    buffer.writelines(f"# {note}\n" for note in notes)
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(["mode", "real [1/s]", "imag [1/s]", "f_n [Hz]", "zeta [1]", "tau [s]", "states"])
     for k, mode in enumerate(found, 1):

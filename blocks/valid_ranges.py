@@ -7,6 +7,9 @@ signal after the logged outputs, at every output sample; after a run each is com
 a signal that left it gives one warning line: the block, the signal, when it first left the range, the
 value furthest outside it and what the block does there ("the table's end value is held"). A value between
 two output samples is not seen: the check is as fine as ``dt_out``.
+
+The signals a block declares ``regularised`` (:mod:`blocks.regularisation`) are observed after the checked
+ones, the same way: they have no valid range, and are read at a linearisation's operating point only.
 """
 
 from __future__ import annotations
@@ -25,8 +28,8 @@ _SHOWN = {"Pa": ("bar", 1e5), "m^3/s": ("l/min", 1e-3 / 60.0), "rad": ("deg", np
 
 @dataclass(frozen=True)
 class Monitor:
-    """A checked signal of block ``comp``: ``ref`` relative to the block, its expression in the generated
-    ``observe`` and its SI unit ("" or "SI" when no port on its net declares one)."""
+    """A checked (or regularised) signal of block ``comp``: ``ref`` relative to the block, its expression in
+    the generated ``observe`` and its SI unit ("" or "SI" when no port on its net declares one)."""
 
     comp: str
     ref: str
@@ -39,15 +42,18 @@ class Monitor:
 
 
 def monitors(circuit) -> list[Monitor]:
-    """Every checked signal of every block of the circuit, resolved as an output would be."""
+    """Every checked signal of every block of the circuit, then every regularised one that is not also
+    checked, resolved as an output would be."""
     found = []
-    for comp, spec in circuit.flat.components.items():
-        for ref in spec.cls.checked:
-            name = f"{comp}.{ref}"
-            expr, unit = circuit.generator.resolve_output(name)
-            if unit in ("", GENERIC):
-                unit = circuit.agreed_unit(name) or unit
-            found.append(Monitor(comp, ref, expr, unit))
+    refs = [(comp, ref) for comp, spec in circuit.flat.components.items() for ref in spec.cls.checked]
+    refs += [(comp, ref) for comp, spec in circuit.flat.components.items() for ref in spec.cls.regularised
+             if ref not in spec.cls.checked]
+    for comp, ref in refs:
+        name = f"{comp}.{ref}"
+        expr, unit = circuit.generator.resolve_output(name)
+        if unit in ("", GENERIC):
+            unit = circuit.agreed_unit(name) or unit
+        found.append(Monitor(comp, ref, expr, unit))
     return found
 
 

@@ -5,6 +5,7 @@ import math
 from blocks.block import Block, Param, fluid_params, hydraulic, rotational
 from blocks.library.hydraulic.displacement import chamber_fill, vapour_pressure_param
 from blocks.library.hydraulic.flow import turbulent_flow
+from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -29,6 +30,10 @@ class ParkerMotor(Block):
     Sign convention as hydraulic_motor: p_a > p_b drives the shaft forward (w > 0), drawing oil from a and
     delivering it to b. tanh(w/w_w) smooths the sign of the Coulomb term over the declared speed width w_w
     (no stiction: section 2.1). The leakage law is the library's turbulent orifice, laminar below dp_t.
+
+    Linearised about a point inside the friction's smoothing band, |w| < 3*w_w, the friction's slope is the
+    regularisation's, (1 - eta_hm)*D*|p_a - p_b|/w_w [N*m*s/rad] through w = 0: a damper of the smoothing's size,
+    where a real one at rest sticks or slips. `vphs linearise` says so.
 
     Presets (table 2.13 leakage areas, A_ld = 1e-4 mm^2 for all; displacement and inertia from appendix I):
     F12-030: 30 cm^3/rev, A_lm = 0.13 mm^2, J_m = 1.7e-3 kg*m^2 (appendix I; section 2.7's trolley-travel
@@ -70,6 +75,14 @@ class ParkerMotor(Block):
         "F11-019": {"D": "19.0 cm^3/rev", "A_lm": "0.083 mm^2", "A_ld": "1e-4 mm^2", "J_m": "0.8e-3 kg*m^2",
                     "eta_hm": 0.9},
     }
+
+    regularised = ("shaft",)
+
+    @classmethod
+    def regularisations(cls, values: dict):
+        """The friction's tanh band; its slope depends on the pressures at the point (none at eta_hm = 1)."""
+        return tanh_band("shaft", None if values["eta_hm"] < 1.0 else 0.0, values["w_w"], "w_w",
+                         "(1 - eta_hm)*D*|p_a - p_b|/w_w", "N*m*s/rad", "the motor's Coulomb friction")
 
     @staticmethod
     def derivatives(a, b, drain, shaft, D, A_lm, A_ld, J_m, eta_hm, w_w, B_v, Cd, dp_t, rho, p_vap):

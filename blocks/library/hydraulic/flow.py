@@ -16,6 +16,16 @@ def turbulent_flow(dp, area, cd, rho, dp_t):
     The linear part is a regularisation, not a laminar flow law (the oil's viscosity is not in it): the
     flow is 2^(-1/4) = 0.84 of the square-root law at dp = dp_t and 0.99 at 5*dp_t, so dp_t should be
     well below the pressure drops the circuit works at.
+
+    A linearisation about |dp| < dp_t (an open orifice passing no flow) takes the conductance
+    dq/ddp = Cd*A*sqrt(2/(rho*dp_t)) there. Unlike a smoothed Coulomb friction's slope (Block.regularised)
+    it is not flagged by `vphs linearise`: the square-root law does not jump at dp = 0 (q is continuous,
+    only its slope is unbounded), and a real orifice near dp = 0 is laminar, a conductance too, over a
+    band that the same law with dp_t = rho/2*(Re_t*nu/(Cd*D_h))^2 describes (Simscape's orifice; Re_t ~
+    10..150 gives 1e2..2e4 Pa for a 1 mm orifice in 30 cSt oil). So the linear model has the machine's kind
+    of law there, a conductance; its size is dp_t's, as dp_t^(-1/2) (a decade of dp_t moves it 3.2x, where a
+    decade of a friction's v_w moves Fc/v_w 10x and the real friction has none). Where the damping that an
+    open, flowless orifice gives the modes matters, set dp_t near that transition pressure.
     """
     return cd * area * math.sqrt(2.0 / rho) * dp / math.sqrt(math.sqrt(dp * dp + dp_t * dp_t))
 

@@ -4,6 +4,7 @@ import math
 
 from blocks.block import Block, Param, hydraulic, rotational
 from blocks.library.hydraulic.displacement import chamber_fill, vapour_pressure_param
+from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -21,6 +22,10 @@ class HydraulicMotor(Block):
     The second term is the motor's mechanical loss (thesis section 2.6): a Coulomb-like friction of
     (1 - eta_hm) of the hydraulic torque's magnitude, opposing the motion, smoothed over the speed width
     w_w. eta_hm = 1 (the default) is the lossless motor.
+
+    Linearised about a point inside the friction's smoothing band, |w| < 3*w_w, the friction's slope is the
+    regularisation's, (1 - eta_hm)*D*|p_a - p_b|/w_w [N*m*s/rad] through w = 0: a damper of the smoothing's size,
+    where a real one at rest sticks or slips. `vphs linearise` says so.
 
     D is the displacement per radian [m^3/rad] (D = V_rev/(2*pi)). Sign convention: p_a > p_b drives the
     shaft forward (w > 0), which draws oil from a and delivers it to b. Hydraulic power consumed by the
@@ -52,6 +57,14 @@ class HydraulicMotor(Block):
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
         vapour_pressure_param(),
     )
+
+    regularised = ("shaft",)
+
+    @classmethod
+    def regularisations(cls, values: dict):
+        """The friction's tanh band; its slope depends on the pressures at the point (none at eta_hm = 1)."""
+        return tanh_band("shaft", None if values["eta_hm"] < 1.0 else 0.0, values["w_w"], "w_w",
+                         "(1 - eta_hm)*D*|p_a - p_b|/w_w", "N*m*s/rad", "the motor's Coulomb friction")
 
     @staticmethod
     def derivatives(a, b, shaft, D, G_leak, J_m, eta_hm, w_w, p_vap):

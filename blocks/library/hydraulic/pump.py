@@ -2,6 +2,7 @@
 
 from blocks.block import Block, Param, hydraulic, rotational
 from blocks.library.hydraulic.displacement import pump_flow_and_torque, vapour_pressure_param
+from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -25,6 +26,10 @@ class Pump(Block):
     q*dp = D*dp*w - G_leak*dp^2: the loss term is a Coulomb-like friction opposing w, smoothed over w_w,
     dissipating (1/eta_hm - 1)*|D*dp*w|, and the leakage dissipates G_leak*dp^2 (volumetric efficiency
     1 - G_leak*dp/(D*w)). eta_hm = 1 (the default) is the lossless pump.
+
+    Linearised about a point inside the friction's smoothing band, |w| < 3*w_w, the friction's slope is the
+    regularisation's, (1/eta_hm - 1)*D*|p_p - p_s|/w_w [N*m*s/rad] through w = 0: a damper of the smoothing's size,
+    where a real one at rest sticks or slips. `vphs linearise` says so.
 
     Filling: f = 1 while the side the chambers fill from is at or above the fluid's vapour pressure p_vap
     (the usual case; the equations are then those without f, bit for bit). Below it the chambers take in
@@ -56,6 +61,14 @@ class Pump(Block):
         Param("w_w", "rad/s", 0.1, 1e-6, 1e3, "speed width over which the friction torque changes sign"),
         vapour_pressure_param(),
     )
+
+    regularised = ("shaft",)
+
+    @classmethod
+    def regularisations(cls, values: dict):
+        """The friction's tanh band; its slope depends on the pressures at the point (none at eta_hm = 1)."""
+        return tanh_band("shaft", None if values["eta_hm"] < 1.0 else 0.0, values["w_w"], "w_w",
+                         "(1/eta_hm - 1)*D*|p_p - p_s|/w_w", "N*m*s/rad", "the pump's Coulomb friction")
 
     @staticmethod
     def derivatives(s, p, shaft, D, G_leak, J_p, eta_hm, w_w, p_vap):

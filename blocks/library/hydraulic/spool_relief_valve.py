@@ -53,6 +53,10 @@ class SpoolReliefValve(Block):
     start inside it, z settles at sign(u') while the spool moves and stays put when it stops. (A smoothed
     sign, u'/sqrt(u'^2 + w^2), would settle at sqrt(u'^2 + w^2)/u' > 1: at a spool speed below w the
     friction grew without bound, and on a slow pressure ramp the valve stayed shut far above its setting.)
+    Linearised with the spool at rest, Dahl's law sticks, as the spool does: z' = u'/u_z there, the friction
+    a spring of p_fric/u_z per unit stroke (its pre-sliding), not a damper. It is the machine's kind of
+    behaviour (the stick's stiffness is u_z's), so the block declares no regularised signal (Block.regularised:
+    a smoothed jump whose slope the linear model takes for a damper the machine does not have).
     Pressures are gauge; u, z dimensionless; k_s, p_set, p_fric in Pa (force over the spool area).
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.

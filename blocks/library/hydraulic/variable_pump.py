@@ -4,6 +4,7 @@ from blocks.block import Block, Param, State, hydraulic, rotational, signal_out
 from blocks.library.hydraulic.displacement import pump_flow_and_torque, vapour_pressure_param
 from blocks.library.hydraulic.flow import smooth_step
 from blocks.library.signal.linear import clamp
+from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -37,6 +38,10 @@ class VariablePump(Block):
     supplies -tau*w = e*D_max*dp*w/eta_hm while pumping; running backwards against a pressurised outlet
     it motors; a suction drawn below the vapour pressure fills the chambers with vapour (f < 1), which
     limits the flow to what the suction line lets in.
+
+    Linearised about a point inside the friction's smoothing band, |w| < 3*w_w, the friction's slope is the
+    regularisation's, (1/eta_hm - 1)*e*D_max*|p_p - p_s|/w_w [N*m*s/rad] through w = 0: a damper of the smoothing's
+    size, where a real one at rest sticks or slips. `vphs linearise` says so.
     """
 
     ports = (
@@ -66,6 +71,14 @@ class VariablePump(Block):
         if not 0.0 <= start <= 1.0:
             return f"initial eps = {start:g} is outside [0, 1] (the displacement fraction, 1 = full stroke)"
         return None
+
+    regularised = ("shaft",)
+
+    @classmethod
+    def regularisations(cls, values: dict):
+        """The friction's tanh band; its slope depends on the pressures at the point (none at eta_hm = 1)."""
+        return tanh_band("shaft", None if values["eta_hm"] < 1.0 else 0.0, values["w_w"], "w_w",
+                         "(1/eta_hm - 1)*e*D_max*|p_p - p_s|/w_w", "N*m*s/rad", "the pump's Coulomb friction")
 
     @staticmethod
     def outputs(eps, eps_max):

@@ -3,6 +3,7 @@
 import math
 
 from blocks.block import Block, Param, rotational
+from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -17,6 +18,11 @@ class StribeckFriction(Block):
     w_w [rad/s] the declared width of the tanh regularisation of sign(w) (linear through w = 0; at |w| =
     w_w the Coulomb part has reached 76 %). w_w << w_s for a visible Stribeck dip. tau acts on the net and
     always opposes w. With dTs = 0 this is the library's rot_friction.
+
+    Linearised about a point inside the smoothing's band, |w| < 3*w_w (beyond it tanh is within 0.5 % of
+    sign(w), its slope under 1 %), the law's slope is the regularisation's, (Tc + dTs)/w_w [N*m*s/rad] through w = 0: a
+    damper of the smoothing's size, where a real friction at rest sticks or slips. `vphs linearise` says
+    so.
     """
 
     ports = (rotational("port", "the braked shaft net"),)
@@ -27,6 +33,12 @@ class StribeckFriction(Block):
         Param("b", "N*m*s/rad", 0.0, 0.0, 1e9, "viscous friction coefficient"),
         Param("w_w", "rad/s", 0.01, 1e-9, 1e3, "speed width of the sign smoothing (regularisation width)"),
     )
+
+    regularised = ("port",)
+
+    @classmethod
+    def regularisations(cls, values: dict):
+        return tanh_band("port", values["Tc"] + values["dTs"], values["w_w"], "w_w", "(Tc + dTs)/w_w", "N*m*s/rad")
 
     @staticmethod
     def derivatives(port, Tc, dTs, w_s, b, w_w):

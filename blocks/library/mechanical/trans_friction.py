@@ -3,6 +3,7 @@
 import math
 
 from blocks.block import Block, Param, translational
+from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -15,6 +16,11 @@ class TransFriction(Block):
     Fc is the Coulomb (kinetic) friction force [N], b the viscous coefficient [N*s/m], and v_w [m/s] the
     declared velocity width of the tanh regularisation (the friction force reaches 76 % of Fc at
     |v| = v_w and is linear through v = 0). f acts on the net and always opposes v.
+
+    Linearised about a point inside the smoothing's band, |v| < 3*v_w (beyond it tanh is within 0.5 % of
+    sign(v), its slope under 1 %), the law's slope is the regularisation's, Fc/v_w [N*s/m] through v = 0: a
+    damper of the smoothing's size, where a real friction at rest sticks or slips. `vphs linearise` says
+    so.
     """
 
     ports = (translational("port", "the braked body net"),)
@@ -23,6 +29,12 @@ class TransFriction(Block):
         Param("b", "N*s/m", 0.0, 0.0, 1e10, "viscous friction coefficient"),
         Param("v_w", "m/s", 1e-3, 1e-9, 1e3, "velocity width of the Coulomb smoothing (regularisation width)"),
     )
+
+    regularised = ("port",)
+
+    @classmethod
+    def regularisations(cls, values: dict):
+        return tanh_band("port", values["Fc"], values["v_w"], "v_w", "Fc/v_w", "N*s/m")
 
     @staticmethod
     def derivatives(port, Fc, b, v_w):

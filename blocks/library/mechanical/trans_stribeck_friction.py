@@ -3,6 +3,7 @@
 import math
 
 from blocks.block import Block, Param, translational
+from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -18,6 +19,11 @@ class TransStribeckFriction(Block):
     part has reached 76 %). v_w << v_s for a visible Stribeck dip. A cylinder's seal friction is the usual
     case. f acts on the net and always opposes v. With dFs = 0 this is the library's trans_friction; it is
     stribeck_friction for a translating body.
+
+    Linearised about a point inside the smoothing's band, |v| < 3*v_w (beyond it tanh is within 0.5 % of
+    sign(v), its slope under 1 %), the law's slope is the regularisation's, (Fc + dFs)/v_w [N*s/m] through v = 0: a
+    damper of the smoothing's size, where a real friction at rest sticks or slips. `vphs linearise` says
+    so.
     """
 
     ports = (translational("port", "the braked body net (a cylinder's rod)"),)
@@ -28,6 +34,12 @@ class TransStribeckFriction(Block):
         Param("b", "N*s/m", 0.0, 0.0, 1e9, "viscous friction coefficient"),
         Param("v_w", "m/s", 1e-4, 1e-12, 1e2, "velocity width of the sign smoothing (regularisation width)"),
     )
+
+    regularised = ("port",)
+
+    @classmethod
+    def regularisations(cls, values: dict):
+        return tanh_band("port", values["Fc"] + values["dFs"], values["v_w"], "v_w", "(Fc + dFs)/v_w", "N*s/m")
 
     @staticmethod
     def derivatives(port, Fc, dFs, v_s, b, v_w):
