@@ -102,7 +102,9 @@ class Mode:
         magnitude = abs(self.eigenvalue)
         if magnitude == 0.0:
             return float("nan")
-        return -self.eigenvalue.real / magnitude if self.oscillating else math.copysign(1.0, -self.eigenvalue.real)
+        if not self.oscillating:
+            return math.copysign(1.0, -self.eigenvalue.real)
+        return -self.eigenvalue.real / magnitude + 0.0  # + 0.0: an undamped pair's zeta is 0, not -0
 
     @property
     def time_constant(self) -> float:
