@@ -738,6 +738,9 @@ def cmd_optimise(args, sweep: bool = False) -> int:
 
     for warning in warnings(summary):
         print(f"vphs: warning: {warning}", file=sys.stderr)
+    if not sweep and summary.best is not None:  # as report.md says them: a limit the best design breaks
+        for warning in summary.best.get("warnings") or []:
+            print(f"vphs: warning: the best design: {warning}", file=sys.stderr)
     comparison, warn = netlist_comparison(summary)
     if summary.best is None:
         print(f"vphs: every evaluation failed; see {summary.report}", file=sys.stderr)
