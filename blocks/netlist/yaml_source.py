@@ -189,6 +189,75 @@ def shown_key(key) -> str:
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(key))
 
 
+def in_words(error: dict) -> str:
+    """A pydantic error's message in the project's own wording, for every file the loaders validate
+    (netlists, jobs, experiments): "must be at most 50, got 60", not pydantic's "Input should be less than
+    or equal to 50". The one place these are worded; a type not listed here keeps pydantic's message (and
+    a custom error, such as a boolean where a number belongs, its own)."""
+    kind, ctx, given = error.get("type"), error.get("ctx") or {}, error.get("input")
+    got = f", got {_given(given)}" if "input" in error else ""
+    if kind in _BOUNDS:
+        word, key = _BOUNDS[kind]
+        return f"must be {word} {_given(ctx[key])}{got}"
+    if kind == "int_from_float":
+        return f"must be a whole number{got}"
+    if kind in ("int_parsing", "int_type"):
+        return f"{_given(given)} is not a whole number"
+    if kind in ("float_parsing", "float_type"):
+        return f"{_given(given)} is not a number"
+    if kind == "finite_number":
+        return f"must be a finite number{got}"
+    if kind in ("bool_parsing", "bool_type"):
+        return f"{_given(given)} is not a boolean: write true or false, unquoted"
+    if kind == "literal_error":
+        return f"{_given(given)} is not known; allowed: {ctx.get('expected')}"
+    if kind in ("string_type", "list_type", "dict_type"):
+        wanted = {"string_type": "text", "list_type": "a list", "dict_type": "a mapping"}[kind]
+        return f"expected {wanted}, got {_kind(given)}"
+    if kind == "model_type":
+        return f"expected a mapping, got {_kind(given)}"
+    if kind in ("too_short", "too_long"):
+        limit = ctx.get("min_length" if kind == "too_short" else "max_length")
+        what = "entry" if limit == 1 else "entries"
+        side = "at least" if kind == "too_short" else "at most"
+        empty = kind == "too_short" and ctx.get("actual_length") == 0
+        return (f"empty: give {side} {limit} {what}" if empty
+                else f"takes {side} {limit} {what}, got {ctx.get('actual_length')}")
+    return error.get("msg", "invalid")
+
+
+_BOUNDS = {"greater_than": ("greater than", "gt"), "greater_than_equal": ("at least", "ge"),
+           "less_than": ("less than", "lt"), "less_than_equal": ("at most", "le")}
+
+
+def _given(value) -> str:
+    """A value from the file as a message quotes it: a number as written, text in quotes."""
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e16:
+        return f"{value:g}"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return f"'{shown_key(value)}'"
+    return repr(value)
+
+
+def _kind(value) -> str:
+    """What a value is, for 'expected a list, got ...': "the number 5", "the text 'abc'", "a mapping"."""
+    if isinstance(value, bool):
+        return f"the boolean {str(value).lower()}"
+    if isinstance(value, (int, float)):
+        return f"the number {_given(value)}"
+    if isinstance(value, str):
+        return f"the text {_given(value)}"
+    if isinstance(value, dict):
+        return "a mapping"
+    if isinstance(value, list):
+        return "a list"
+    return "nothing" if value is None else type(value).__name__
+
+
 def unknown_key(key, allowed) -> str:
     """'unknown key' with the nearest allowed keys as a question, or, when none is near, all of them."""
     from blocks.units import nearest

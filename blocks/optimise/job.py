@@ -116,7 +116,7 @@ from pydantic_core import PydanticCustomError
 
 from blocks.errors import NetlistError
 from blocks.netlist.spec import Count, Number, Value
-from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
+from blocks.netlist.yaml_source import Located, document_path, in_words, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
 from blocks.optimise.display import as_written, plain, shown, written_unit
@@ -389,7 +389,7 @@ def _located(located: Located, exc: ValidationError, prefix: tuple, model=None) 
     first = max(errors, key=lambda e: len(e["loc"]))  # of a union's branches, the one that got furthest
     path = prefix + document_path(_get(located.data, prefix), first["loc"], _ALL_FIELDS)
     where = ".".join(shown_key(p) for p in path) or "job"
-    message = first["msg"]
+    message = in_words(first)
     if path[:2] == ("sweep", "parameters") and len(path) == 3:
         message = "expected a list of values, or {min:, max:, points:, log:}"
     elif first["type"] == "extra_forbidden":
