@@ -80,7 +80,7 @@ def parse_yaml_text(text: str, name: str) -> Located:
         raise NetlistError(name, f"invalid YAML: control character U+{code:04X} is not allowed", line, col) from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
-        problem = (exc.problem or exc.context or "invalid YAML").strip()
+        problem = (exc.problem or exc.context or "invalid YAML").strip() + _yaml_context(exc)
         line, col = (mark.line + 1, mark.column + 1) if mark else (None, None)
         raise NetlistError(name, f"invalid YAML: {problem}", line, col) from None
     except yaml.YAMLError as exc:
@@ -94,6 +94,26 @@ def parse_yaml_text(text: str, name: str) -> Located:
     counter = [0]
     located.data = _convert(node, (), located, yaml.SafeLoader(""), counter, 0)
     return located
+
+
+_UNCLOSED = {"while parsing a flow mapping": "is its closing brace missing?",
+             "while parsing a flow sequence": "is its closing bracket missing?",
+             "while scanning a quoted scalar": "is its closing quote missing?"}
+
+
+def _yaml_context(exc) -> str:
+    """PyYAML's context, said where it starts (" (while parsing a flow mapping that starts at line 19,
+    column 12; is its closing brace missing?)"), or "". The hint names the brace in words: quoted, it
+    would pair with the problem's quotes where messages are shortened (:func:`blocks.errors.shorten_values`). The problem is found where the parser gave up, often the
+    line after the slip (an unclosed '{' is noticed at the next key); the context's place is the slip's."""
+    context, where = (exc.context or "").strip(), exc.context_mark
+    if not (exc.problem and context and where) or (exc.problem_mark is not None and
+                                                    (where.line, where.column) == (exc.problem_mark.line,
+                                                                                   exc.problem_mark.column)):
+        return ""
+    hint = _UNCLOSED.get(context)
+    return f" ({context} that starts at line {where.line + 1}, column {where.column + 1}" + \
+        (f"; {hint})" if hint else ")")
 
 
 def _line_col(text: str, position: int) -> tuple[int, int]:
