@@ -6,6 +6,7 @@
     vphs blocks [TYPE]
     vphs graph NETLIST [-o circuit.png]
     vphs diff SIMULATED REFERENCE.csv [--x COL] [--y COL|SIM=REF ...] [-o table.csv] [--plot overlay.png]
+                  [--t-from T] [--t-to T] [--t-end T]
     vphs docs [-o docs/netlist-reference.md]
     vphs optimise JOB [--resume] [--scheduler ADDRESS] [--workers N]
     vphs sweep JOB [--resume] [--scheduler ADDRESS] [--workers N]
@@ -83,6 +84,10 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", help="PNG file: simulated lines, reference points and the error beneath")
     p.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
                    help="override a parameter when SIMULATED is a netlist" + SET_EXPRESSIONS)
+    p.add_argument("--t-from", metavar="T", help="compare only from this time of the run on, e.g. '2.5 s' (the "
+                   "simulated curve, and the reference points too when --x is t)")
+    p.add_argument("--t-to", metavar="T", help="compare only up to this time of the run, e.g. '2.5 s' (as --t-from)")
+    p.add_argument("--t-end", metavar="T", help="override simulation.t_end when SIMULATED is a netlist, e.g. '5 s'")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress or notes on stderr")
 
     for name, what in (("optimise", "run a job's optimisation (the Complex method, Nelder-Mead, differential evolution)"),
@@ -548,8 +553,10 @@ def cmd_run(args) -> int:
         result.plot(args.plot, x=args.x, y=args.y)
     if not args.quiet:
         stats = ", ".join(f"{k} {v}" for k, v in result.stats.items())
+        compiled = f", after {result.compile_seconds:.1f} s compiling the integrator" if result.compile_seconds >= 0.5 \
+            else ""
         print(f"vphs: {args.netlist}: {settings.t_end - settings.t_start:g} s simulated in {result.seconds * 1e3:.1f} ms "
-              f"({settings.solver}; {stats})" + (f"; wrote {args.output}" if args.output else "")
+              f"({settings.solver}; {stats}{compiled})" + (f"; wrote {args.output}" if args.output else "")
               + (f", {args.plot}" if args.plot else ""), file=sys.stderr)
     return 0
 
@@ -628,13 +635,19 @@ def cmd_graph(args) -> int:
 
 
 def cmd_diff(args) -> int:
-    from blocks.compare import check_reference_columns, compare, is_netlist, planned_table, resolve, table_from_result
+    from blocks.compare import (apply_window, check_reference_columns, compare, is_netlist, planned_table, resolve,
+                                table_from_result, window_problem)
     from blocks.datafile import read_table
 
     check_output_paths(args.output, args.plot, inputs=(args.simulated, args.reference))
     netlist = is_netlist(args.simulated)
-    if args.set and not netlist:
-        raise ArgumentError("vphs: --set applies only when SIMULATED is a netlist")
+    for option, given in (("--set", args.set), ("--t-end", args.t_end)):
+        if given and not netlist:
+            raise ArgumentError(f"vphs: {option} applies only when SIMULATED is a netlist")
+    t_from = None if args.t_from is None else _seconds_option("--t-from", args.t_from)
+    t_to = None if args.t_to is None else _seconds_option("--t-to", args.t_to)
+    if t_from is not None and t_to is not None and t_from >= t_to:
+        raise ArgumentError(f"vphs: --t-from '{args.t_from}' is not before --t-to '{args.t_to}'")
     reference = read_table(args.reference)  # a bad reference fails before a long run
     check_reference_columns(reference, args.x, args.y)
     if netlist:
@@ -642,16 +655,32 @@ def cmd_diff(args) -> int:
 
         circuit = Circuit.from_file(args.simulated, quiet=args.quiet, compile=False)
         resolve(planned_table(circuit), reference, args.x, args.y)  # names and units, before the run
-        overrides = parse_overrides(args.set, circuit)  # checked before the (possibly slow) compilation
+        overrides = parse_overrides(args.set, circuit, {"t_end": "--t-end"})  # before the (slow) compilation
         circuit.vectors(overrides)
+        settings = circuit.settings
+        if args.t_end is not None:
+            settings = settings.with_(t_end=_seconds_option("--t-end", args.t_end))
+            problem = settings.problem()
+            if problem:
+                raise ArgumentError(f"vphs: simulation.{problem[0]} (with --t-end): {problem[1]}")
+        what = f"the run of {args.simulated}" + (" with --t-end" if args.t_end is not None else "")
+        problem = window_problem(settings.t_start, settings.t_end, t_from, t_to, what)
+        if problem:  # before the run, not after it
+            raise ArgumentError(f"vphs: {problem}")
         circuit.compile(quiet=args.quiet)
-        result = circuit.simulate(overrides, progress=_progress_printer(silent=args.quiet))
+        result = circuit.simulate(overrides, settings, progress=_progress_printer(silent=args.quiet))
         for warning in result.warnings:
             print(f"vphs: warning: {warning}", file=sys.stderr)
         simulated = table_from_result(result)
     else:
         simulated = read_table(args.simulated)
-    comparison = compare(simulated, reference, x=args.x, ys=args.y)
+    window, outside = "", 0
+    if t_from is not None or t_to is not None:
+        try:
+            simulated, reference, window, outside = apply_window(simulated, reference, args.x, t_from, t_to)
+        except ValueError as exc:
+            raise ArgumentError(f"vphs: {exc}") from None
+    comparison = compare(simulated, reference, x=args.x, ys=args.y, window=window, outside=outside)
     if comparison.skipped and not args.quiet:
         print(f"vphs: not compared (not simulated): {', '.join(comparison.skipped)}", file=sys.stderr)
     sys.stdout.write(comparison.format())
@@ -711,6 +740,9 @@ def cmd_optimise(args, sweep: bool = False) -> int:
 
     for warning in warnings(summary):
         print(f"vphs: warning: {warning}", file=sys.stderr)
+    if not sweep and summary.best is not None:  # as report.md says them: a limit the best design breaks
+        for warning in summary.best.get("warnings") or []:
+            print(f"vphs: warning: the best design: {warning}", file=sys.stderr)
     comparison, warn = netlist_comparison(summary)
     if summary.best is None:
         print(f"vphs: every evaluation failed; see {summary.report}", file=sys.stderr)

@@ -194,8 +194,9 @@ class Circuit:
         vec = self.vectors(overrides)
         if self.module is None:
             self.compile()
-        from blocks.solve.run import solve
+        from blocks.solve.run import solve, warm_up
 
+        compiling = warm_up(self, vec, settings)  # the integrator's first compilation: not on the run's clock
         started = time.perf_counter()
         outcome = solve(self, vec, settings, progress)
         elapsed = time.perf_counter() - started
@@ -210,6 +211,7 @@ class Circuit:
             state_names=[s.name for s in self.structure.states for _ in range(s.size)],
             stats=outcome.stats,
             seconds=elapsed,
+            compile_seconds=compiling,
             warnings=self._cavitation(outcome, vec) + parameter_warnings(self, vec.values)
             + range_warnings(self, outcome.t, outcome.Y[:, len(self.outputs):], vec.values),
         )

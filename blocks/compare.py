@@ -87,6 +87,8 @@ class Comparison:
     stats: list[CurveStats]
     skipped: list[str]  # reference columns with a unit that the simulation does not have (default matching)
     left_out: dict[str, int] = field(default_factory=dict)  # compared reference column -> rows with it empty
+    window: str = ""  # the time window the comparison was restricted to ("t 0.6 .. 2.5 s"), or ""
+    outside: int = 0  # reference points outside the window, left out
 
     def format(self) -> str:
         """The statistics as an aligned text table (the reference's units)."""
@@ -100,6 +102,9 @@ class Comparison:
         lines = ["  ".join(c.ljust(w) if i < 2 else c.rjust(w) for i, (c, w) in enumerate(zip(r, widths))).rstrip()
                  for r in [head] + rows]
         note = f"{self.simulated} vs {self.reference} (error = simulated - reference, in the reference's units)"
+        if self.window:
+            note += f"\ncompared over {self.window}" + (f"; {self.outside} reference {_points(self.outside)} "
+                                                         f"outside it left out" if self.outside else "")
         lines += [f"{n} {'row' if n == 1 else 'rows'} with an empty cell in {ref} left out"
                   for ref, n in self.left_out.items()]
         return "\n".join([note] + lines) + "\n"
@@ -157,6 +162,10 @@ def _point_groups(labels, n):
     for k, label in enumerate(labels):
         order.setdefault(label, []).append(k)
     return [(label, np.array(idx, dtype=int)) for label, idx in order.items()]
+
+
+def _points(n: int) -> str:
+    return "point" if n == 1 else "points"
 
 
 def _g(value: float) -> str:
@@ -240,11 +249,14 @@ def resolve(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
     return (x_sim, x_ref), pairs, skipped
 
 
-def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | None = None) -> Comparison:
+def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | None = None, window: str = "",
+            outside: int = 0) -> Comparison:
     """Interpolate the simulated curves onto the reference's x points and measure the errors.
 
     When both files have the same grouping column (e.g. ``setting``), each reference point is compared
-    with the simulated curve of its own group (steady operating points of several experiments)."""
+    with the simulated curve of its own group (steady operating points of several experiments).
+    ``window`` and ``outside``: the time window the tables were cut to and the reference points it left
+    out (:func:`apply_window`), for the report and for errors about the simulated range."""
     (x_sim, x_ref), pairs, skipped = resolve(simulated, reference, x, ys)
     x_unit = reference.units[x_ref]
     xr = reference.columns[x_ref]
@@ -259,8 +271,9 @@ def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
         if not (xs[0] - EDGE_TOLERANCE * span <= xr[k] <= xs[-1] + EDGE_TOLERANCE * span):
             f = parse_unit(x_unit).factor
             where = f" (group {ref_groups[k]})" if ref_groups[k] is not None else ""
+            within = f", in the window {window}" if window else ""
             raise reference.error(f"{x_ref} = {xr[k] / f:g} {x_unit} is outside the simulated range "
-                                  f"{xs[0] / f:g} .. {xs[-1] / f:g} {x_unit}{where} ({simulated.file}); "
+                                  f"{xs[0] / f:g} .. {xs[-1] / f:g} {x_unit}{where} ({simulated.file}{within}); "
                                   f"no extrapolation", x_ref, k)
 
     curves, stats, left_out = [], [], {}
@@ -292,7 +305,7 @@ def compare(simulated: Table, reference: Table, x: str = "t", ys: list[str] | No
             for label, idx in _point_groups(labels, used.size):
                 stats.append(_stats(curve, idx, label))
     return Comparison(simulated=simulated.file, reference=reference.file, x_sim=x_sim, x_ref=x_ref, x_unit=x_unit,
-                      curves=curves, stats=stats, skipped=skipped, left_out=left_out)
+                      curves=curves, stats=stats, skipped=skipped, left_out=left_out, window=window, outside=outside)
 
 
 def _grouped(simulated: Table, reference: Table) -> bool:
@@ -341,8 +354,84 @@ def _check_increasing(table: Table, name: str, rows: np.ndarray | None = None) -
         k = int(bad[0]) + 1
         f = parse_unit(table.units[name]).factor
         what = "repeated" if step[k - 1] == 0 else "decreasing"
-        raise table.error(f"x must be strictly increasing in the simulated curve: {x[k] / f:g} after "
-                          f"{x[k - 1] / f:g} ({what})", name, int(rows[k]))
+        later, earlier = distinct(x[k] / f, x[k - 1] / f)
+        when = ""
+        if name != "t" and table.units.get("t") == "s" and "t" in table.columns:
+            when = f", at t = {float(table.columns['t'][rows[k]]):.10g} s"
+        raise table.error(f"x must be strictly increasing in the simulated curve: {later} after {earlier} "
+                          f"({what}{when})", name, int(rows[k]))
+
+
+def distinct(a: float, b: float) -> tuple[str, str]:
+    """Two numbers written with the fewest significant digits (at least 6, ``:g`` style) that tell them
+    apart, so that an error about their order never reads "50 after 50" when they differ in the eighth
+    digit; equal numbers are written as ``:g`` writes them."""
+    a, b = float(a), float(b)
+    if a == b:
+        return f"{a:g}", f"{b:g}"
+    for digits in range(6, 18):
+        sa, sb = f"{a:.{digits}g}", f"{b:.{digits}g}"
+        if sa != sb:
+            return sa, sb
+    return repr(a), repr(b)
+
+
+# ---- a time window ---------------------------------------------------------------------------------------
+def window_problem(start: float, end: float, t_from: float | None, t_to: float | None, what: str) -> str | None:
+    """What is wrong with the window ``t_from .. t_to`` (s; None: that end of the run) for a run from
+    ``start`` to ``end`` (``what`` names it: a file, a netlist's simulation), or None. The window must lie
+    within the run (to the rounding a CSV's 10 digits leave, :data:`EDGE_TOLERANCE`) and not be empty: a
+    window past the end would compare nothing, or fewer points than the user asked, silently."""
+    slack = EDGE_TOLERANCE * max(end - start, 0.0)
+    if t_from is not None and t_to is not None and t_from >= t_to:
+        return f"--t-from {t_from:g} s is not before --t-to {t_to:g} s"
+    if t_from is not None and not start - slack <= t_from < end:
+        side = "before the start" if t_from < start else "at or after the end"
+        return f"--t-from {t_from:g} s is {side} of {what} ({start:g} .. {end:g} s)"
+    if t_to is not None and not start < t_to <= end + slack:
+        side = "after the end" if t_to > end else "at or before the start"
+        return f"--t-to {t_to:g} s is {side} of {what} ({start:g} .. {end:g} s)"
+    return None
+
+
+def apply_window(simulated: Table, reference: Table, x: str, t_from: float | None, t_to: float | None):
+    """The simulated rows with t in ``t_from .. t_to`` (s, ends included; None: open at that end) and, when
+    the comparison's abscissa is the simulated t (a time series), the reference points in the same window;
+    with another abscissa (pressure along the stroke) every reference point stays, to be found on the
+    windowed curve. Returns (simulated, reference, span, outside): the window as said in reports
+    ("t 0.6 .. 2.5 s") and the count of reference points it left out. The window is first checked against the simulated t (:func:`window_problem`);
+    a problem is raised as a ValueError with the message alone."""
+    if "t" not in simulated.columns:
+        raise ValueError(f"--t-from/--t-to: {simulated.file} has no column 't' to take a window of "
+                         f"(columns: {', '.join(simulated.columns)})")
+    t = simulated.columns["t"]
+    finite = t[~np.isnan(t)]
+    if finite.size == 0:
+        raise ValueError(f"--t-from/--t-to: {simulated.file}: the column 't' has no values")
+    start, end = float(finite.min()), float(finite.max())
+    problem = window_problem(start, end, t_from, t_to, f"the simulated curve in {simulated.file}")
+    if problem:
+        raise ValueError(problem)
+    slack = EDGE_TOLERANCE * (end - start)
+    lo = -math.inf if t_from is None else t_from - slack
+    hi = math.inf if t_to is None else t_to + slack
+    span = f"t {start if t_from is None else t_from:g} .. {end if t_to is None else t_to:g} s"
+    keep = np.flatnonzero((t >= lo) & (t <= hi))
+    if keep.size < 2:
+        raise ValueError(f"--t-from/--t-to: the window {span} holds {keep.size} simulated "
+                         f"{'sample' if keep.size == 1 else 'samples'} (at least two are needed)")
+    simulated = simulated.rows(keep)
+    outside = 0
+    x_sim, x_ref = split_pair(x)
+    if x_sim == "t" and x_ref in reference.columns:
+        xr = reference.columns[x_ref]
+        inside = np.flatnonzero(np.isnan(xr) | ((xr >= lo) & (xr <= hi)))  # an empty x stays, to be refused
+        if inside.size == 0:
+            raise ValueError(f"--t-from/--t-to: no reference point of {reference.file} lies in the window {span}")
+        if inside.size < xr.size:
+            outside = int(xr.size - inside.size)
+            reference = reference.rows(inside)
+    return simulated, reference, span, outside
 
 
 # ---- the simulated side ---------------------------------------------------------------------------------

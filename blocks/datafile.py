@@ -74,6 +74,23 @@ class Table:
     positions: dict[str, int] = field(default_factory=dict)
     text: dict[str, list[str]] = field(default_factory=dict)
     """Columns of text labels other than the grouping column (only when the caller named the group)."""
+    samples: list[int] | None = None
+    """For a table not from a file whose rows were taken out (:meth:`rows`): the index each row had, so that
+    errors still name the sample as the whole table numbered it."""
+
+    def rows(self, keep: np.ndarray) -> "Table":
+        """The table with only the rows ``keep`` (indices, in order): a window of a run (``vphs diff
+        --t-from``). Errors about the rows kept still name their file lines, or their samples in the whole run."""
+        keep = np.asarray(keep, dtype=int)
+        samples = None
+        if self.lines is None:
+            samples = [self.samples[k] for k in keep] if self.samples is not None else [int(k) for k in keep]
+        return Table(file=self.file, columns={n: c[keep] for n, c in self.columns.items()}, units=dict(self.units),
+                     group=self.group, labels=[self.labels[k] for k in keep] if self.labels is not None else None,
+                     header_line=self.header_line,
+                     lines=[self.lines[k] for k in keep] if self.lines is not None else None,
+                     positions=dict(self.positions), text={n: [v[k] for k in keep] for n, v in self.text.items()},
+                     samples=samples)
 
     @property
     def groups(self) -> dict[str, np.ndarray]:
@@ -101,7 +118,8 @@ class Table:
         if row is None:
             return DataFileError(self.file, message, self.header_line, column if self.header_line else None)
         if self.lines is None:  # not from a file (a simulation result): name the sample instead
-            return DataFileError(self.file, f"sample {row + 1}: {message}")
+            sample = self.samples[row] if self.samples is not None else row
+            return DataFileError(self.file, f"sample {sample + 1}: {message}")
         return DataFileError(self.file, message, self.lines[row], column)
 
 

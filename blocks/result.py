@@ -62,6 +62,7 @@ class Result:
     seconds: float
     warnings: list[str] = field(default_factory=list)
     step_check: str = ""  # solver fixed: the doubled-step check's line ('' if unsaid or not run), also in warnings
+    compile_seconds: float = 0.0  # the shared integrator compiled before this run (not in ``seconds``; 0: ready)
 
     def __getitem__(self, name: str) -> np.ndarray:
         """A logged signal in SI by name."""

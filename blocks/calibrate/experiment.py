@@ -88,7 +88,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from blocks.errors import NetlistError
 from blocks.netlist.parameters import ParameterError
-from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
+from blocks.netlist.yaml_source import Located, document_path, in_words, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.units import (GENERIC, UnitError, display_factor, nearest, parse_unit, quantity, quantity_name, si_name,
                           split_quantity)
 
@@ -265,15 +265,13 @@ def load_spec(file: str | Path) -> tuple[ExperimentSpec, Located]:
             first = next((e for e in errors if any(str(p).startswith("list[") for p in e["loc"])), first)
         path = document_path(located.data, first["loc"])
         where = ".".join(shown_key(p) for p in path) or "experiment"
-        message = first["msg"]
+        message = in_words(first)
         if first["type"] == "extra_forbidden":
             model = _model_at(path[:-1])
             message = (unknown_key(path[-1], model.model_fields) if model is not None
                        else f"unknown key '{shown_key(path[-1])}'" if path else "unknown key")
         elif first["type"] == "missing":
             message = f"missing '{first['loc'][-1]}'"
-        elif first["type"] == "literal_error":  # pydantic says "Input should be ..."
-            message = f"'{first.get('input')}' is not known; allowed: {first['ctx']['expected']}"
         elif first["type"] == "too_short" and isinstance(first.get("input"), list):
             message = f"an empty list: give at least {first['ctx']['min_length']} entry"
         elif first["type"] == "model_type":  # pydantic names its class ("a valid dictionary or instance of X")

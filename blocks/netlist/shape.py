@@ -12,7 +12,7 @@ from pathlib import Path
 from pydantic import ValidationError
 
 from blocks.netlist import spec
-from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
+from blocks.netlist.yaml_source import Located, document_path, in_words, read_yaml, shown_key, unknown_key, wrong_kind
 
 
 def load_netlist(file: str | Path) -> spec.Netlist:
@@ -37,7 +37,7 @@ def load_spec(located: Located) -> spec.Netlist:
                          first)
         path = document_path(located.data, first["loc"])
         where = ".".join(shown_key(p) for p in path) or "netlist"
-        message = first["msg"]
+        message = in_words(first)
         if first["type"] != spec.NOT_A_NUMBER and _is_value_error(first):
             path, message = _value_problem(located.data, document_path(located.data, first["loc"][:-1]), errors)
             where = ".".join(shown_key(p) for p in path)

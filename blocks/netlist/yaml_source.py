@@ -80,7 +80,7 @@ def parse_yaml_text(text: str, name: str) -> Located:
         raise NetlistError(name, f"invalid YAML: control character U+{code:04X} is not allowed", line, col) from None
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
-        problem = (exc.problem or exc.context or "invalid YAML").strip()
+        problem = (exc.problem or exc.context or "invalid YAML").strip() + _yaml_context(exc)
         line, col = (mark.line + 1, mark.column + 1) if mark else (None, None)
         raise NetlistError(name, f"invalid YAML: {problem}", line, col) from None
     except yaml.YAMLError as exc:
@@ -94,6 +94,26 @@ def parse_yaml_text(text: str, name: str) -> Located:
     counter = [0]
     located.data = _convert(node, (), located, yaml.SafeLoader(""), counter, 0)
     return located
+
+
+_UNCLOSED = {"while parsing a flow mapping": "is its closing brace missing?",
+             "while parsing a flow sequence": "is its closing bracket missing?",
+             "while scanning a quoted scalar": "is its closing quote missing?"}
+
+
+def _yaml_context(exc) -> str:
+    """PyYAML's context, said where it starts (" (while parsing a flow mapping that starts at line 19,
+    column 12; is its closing brace missing?)"), or "". The hint names the brace in words: quoted, it
+    would pair with the problem's quotes where messages are shortened (:func:`blocks.errors.shorten_values`). The problem is found where the parser gave up, often the
+    line after the slip (an unclosed '{' is noticed at the next key); the context's place is the slip's."""
+    context, where = (exc.context or "").strip(), exc.context_mark
+    if not (exc.problem and context and where) or (exc.problem_mark is not None and
+                                                    (where.line, where.column) == (exc.problem_mark.line,
+                                                                                   exc.problem_mark.column)):
+        return ""
+    hint = _UNCLOSED.get(context)
+    return f" ({context} that starts at line {where.line + 1}, column {where.column + 1}" + \
+        (f"; {hint})" if hint else ")")
 
 
 def _line_col(text: str, position: int) -> tuple[int, int]:
@@ -187,6 +207,75 @@ def shown_key(key) -> str:
     """A document key as an error message shows it: characters that do not print (a no-break space, a tab)
     escaped, so that a key '\\xa0description' is not read as ' description'."""
     return "".join(c if c.isprintable() else repr(c)[1:-1] for c in str(key))
+
+
+def in_words(error: dict) -> str:
+    """A pydantic error's message in the project's own wording, for every file the loaders validate
+    (netlists, jobs, experiments): "must be at most 50, got 60", not pydantic's "Input should be less than
+    or equal to 50". The one place these are worded; a type not listed here keeps pydantic's message (and
+    a custom error, such as a boolean where a number belongs, its own)."""
+    kind, ctx, given = error.get("type"), error.get("ctx") or {}, error.get("input")
+    got = f", got {_given(given)}" if "input" in error else ""
+    if kind in _BOUNDS:
+        word, key = _BOUNDS[kind]
+        return f"must be {word} {_given(ctx[key])}{got}"
+    if kind == "int_from_float":
+        return f"must be a whole number{got}"
+    if kind in ("int_parsing", "int_type"):
+        return f"{_given(given)} is not a whole number"
+    if kind in ("float_parsing", "float_type"):
+        return f"{_given(given)} is not a number"
+    if kind == "finite_number":
+        return f"must be a finite number{got}"
+    if kind in ("bool_parsing", "bool_type"):
+        return f"{_given(given)} is not a boolean: write true or false, unquoted"
+    if kind == "literal_error":
+        return f"{_given(given)} is not known; allowed: {ctx.get('expected')}"
+    if kind in ("string_type", "list_type", "dict_type"):
+        wanted = {"string_type": "text", "list_type": "a list", "dict_type": "a mapping"}[kind]
+        return f"expected {wanted}, got {_kind(given)}"
+    if kind == "model_type":
+        return f"expected a mapping, got {_kind(given)}"
+    if kind in ("too_short", "too_long"):
+        limit = ctx.get("min_length" if kind == "too_short" else "max_length")
+        what = "entry" if limit == 1 else "entries"
+        side = "at least" if kind == "too_short" else "at most"
+        empty = kind == "too_short" and ctx.get("actual_length") == 0
+        return (f"empty: give {side} {limit} {what}" if empty
+                else f"takes {side} {limit} {what}, got {ctx.get('actual_length')}")
+    return error.get("msg", "invalid")
+
+
+_BOUNDS = {"greater_than": ("greater than", "gt"), "greater_than_equal": ("at least", "ge"),
+           "less_than": ("less than", "lt"), "less_than_equal": ("at most", "le")}
+
+
+def _given(value) -> str:
+    """A value from the file as a message quotes it: a number as written, text in quotes."""
+    if isinstance(value, bool):
+        return str(value).lower()
+    if isinstance(value, float) and value.is_integer() and abs(value) < 1e16:
+        return f"{value:g}"
+    if isinstance(value, (int, float)):
+        return repr(value)
+    if isinstance(value, str):
+        return f"'{shown_key(value)}'"
+    return repr(value)
+
+
+def _kind(value) -> str:
+    """What a value is, for 'expected a list, got ...': "the number 5", "the text 'abc'", "a mapping"."""
+    if isinstance(value, bool):
+        return f"the boolean {str(value).lower()}"
+    if isinstance(value, (int, float)):
+        return f"the number {_given(value)}"
+    if isinstance(value, str):
+        return f"the text {_given(value)}"
+    if isinstance(value, dict):
+        return "a mapping"
+    if isinstance(value, list):
+        return "a list"
+    return "nothing" if value is None else type(value).__name__
 
 
 def unknown_key(key, allowed) -> str:

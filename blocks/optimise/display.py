@@ -5,7 +5,8 @@ unit of min:, else of max:), else its ``sweep:`` values (min:/max:, or the first
 with a unit). Where the job wrote bare numbers only (SI), it is shown in the unit the netlist writes the
 parameter's value in (``D: "30 cm^3/rev"``), else in its declared unit when that is a named one ("Pa",
 "m^3/rad"), else in the SI unit of its dimension ("Pa" for a pressure, not "m^-1*kg*s^-2"), else as a plain
-number ("").
+number (""). The dimensionless unit "1" (as a block declares a ratio) is a plain number too: "1.5",
+never "1.5 1" (nor a column ``R_pilot [1]``).
 
 Inside the job every value stays SI (the methods, the log's ``parameters``, the ``vphs run --set`` lines);
 report.md, sweep.csv, sweep.png, the console and best.json's ``shown`` convert with :func:`in_unit` when
@@ -31,6 +32,15 @@ def written_unit(*raws) -> str:
     return ""
 
 
+PLAIN = ("", "1")
+"""Units that mean a plain number: shown as the number alone."""
+
+
+def plain(unit: str) -> str:
+    """``unit``, or "" for a plain number ("1"): what reports write after a value and in a header."""
+    return "" if unit.strip() in PLAIN else unit
+
+
 def in_unit(value: float, unit: str) -> float:
     """An SI value in the display unit ``unit`` ("" or "1": a plain number, unchanged)."""
     return value / display_factor(unit)
@@ -38,7 +48,7 @@ def in_unit(value: float, unit: str) -> float:
 
 def shown(value: float, unit: str, digits: int = 6) -> str:
     """An SI value as text in the display unit: ``shown(2.5e6, "bar")`` -> "25 bar"."""
-    return f"{in_unit(value, unit):.{digits}g} {unit}".strip()
+    return f"{in_unit(value, unit):.{digits}g} {plain(unit)}".strip()
 
 
 def as_written(raw) -> str:

@@ -116,10 +116,10 @@ from pydantic_core import PydanticCustomError
 
 from blocks.errors import NetlistError
 from blocks.netlist.spec import Count, Number, Value
-from blocks.netlist.yaml_source import Located, document_path, read_yaml, shown_key, unknown_key, wrong_kind
+from blocks.netlist.yaml_source import Located, document_path, in_words, read_yaml, shown_key, unknown_key, wrong_kind
 from blocks.optimise.complex import ComplexSettings
 from blocks.optimise.costs import Term
-from blocks.optimise.display import as_written, shown, written_unit
+from blocks.optimise.display import as_written, plain, shown, written_unit
 from blocks.optimise.scipy_methods import DESettings, NelderMeadSettings
 from blocks.units import GENERIC, UnitError, nearest, parse_unit, quantity, si_name, si_value
 
@@ -389,7 +389,7 @@ def _located(located: Located, exc: ValidationError, prefix: tuple, model=None) 
     first = max(errors, key=lambda e: len(e["loc"]))  # of a union's branches, the one that got furthest
     path = prefix + document_path(_get(located.data, prefix), first["loc"], _ALL_FIELDS)
     where = ".".join(shown_key(p) for p in path) or "job"
-    message = first["msg"]
+    message = in_words(first)
     if path[:2] == ("sweep", "parameters") and len(path) == 3:
         message = "expected a list of values, or {min:, max:, points:, log:}"
     elif first["type"] == "extra_forbidden":
@@ -574,7 +574,7 @@ class _Resolver:
         the netlist gives it ("" for a plain number or one the netlist does not say)."""
         entry = self.entries[name]
         if entry.unit not in (None, GENERIC):
-            return entry.unit
+            return plain(entry.unit)  # a ratio declared "1": "" as for any plain number
         dims = self.table.dimension(name)
         return "" if dims is None or dims.same_dimension(parse_unit("1")) else si_name(dims)
 
@@ -587,7 +587,7 @@ class _Resolver:
         raws += [swept.min, swept.max] if isinstance(swept, SweepRange) else (swept or [])
         entry = self.entries[name]
         netlist = entry.raw if entry.expression is None and isinstance(entry.constant, float) else None
-        return written_unit(*raws) or written_unit(netlist) or self.si_unit(name)
+        return plain(written_unit(*raws) or written_unit(netlist) or self.si_unit(name))
 
     def settings(self, raws: dict, path: tuple, given: dict[str, float], changed: dict[str, str]) -> dict[str, float]:
         """The values of ``raws`` (``set:``, or a load case's) in SI, by :meth:`value`, or for an expression

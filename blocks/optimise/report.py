@@ -13,7 +13,9 @@ discarded are counted, not shown.
 Beside the best, the report gives the cost of the netlist's own design (evaluated first, off the path) and
 warns when the best found is not better than it (:func:`netlist_comparison`, also on the console).
 Sweep (``<output>/sweep/``): ``report.md`` with the table of every point, ``sweep.csv`` and ``sweep.png``
-(the cost and each term against the parameter; a map of the cost over a two-parameter grid).
+(the cost and each term against the parameter; a map of the cost over a two-parameter grid). sweep.csv
+ends with each point's ``status``, ``error`` and ``warnings`` (the run's warnings joined by "; ": a
+range_check's limit broken, a cavity), so that the CSV alone says which points are not to be trusted.
 
 Parameters are shown in the units the job wrote them in (:mod:`blocks.optimise.display`): the tables of
 report.md, sweep.csv (columns ``name [unit]``, values in that unit) and the plots' axes; the ``vphs run``
@@ -375,14 +377,15 @@ def write_sweep_report(summary) -> Path:
     header = [_column(job, n) for n in names]
     header += [f"{c}.{t.name} [{t.value_unit}]" if len(cases) > 1 else f"{t.name} [{t.value_unit}]"
                for c in cases for t in job.terms]
-    header += ["cost", "status", "error"]
+    header += ["cost", "status", "error", "warnings"]  # the last two: text, in sweep.csv only
     rows = []
     for r in records:
         row = [_value(job, n, r["parameters"][n]) for n in names]
         for c in cases:
             terms = r["cases"].get(c, {}).get("terms", {})
             row += [terms.get(t.name) for t in job.terms]
-        row += [r["cost"] if r["status"] == "ok" else None, r["status"], r.get("error") or ""]
+        row += [r["cost"] if r["status"] == "ok" else None, r["status"], r.get("error") or "",
+                "; ".join(r.get("warnings") or [])]  # a point that broke a limit says so in the CSV alone too
         rows.append(row)
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
@@ -403,9 +406,9 @@ def write_sweep_report(summary) -> Path:
         best = min(ok, key=lambda r: r["cost"])
         lines += [f"Lowest cost {_fmt(best['cost'])} at " + ", ".join(f"{n} = {_param(job, n, best['parameters'][n])}" for n in names)
                   + f" (evaluation {best['index']}).", ""]
-    lines += ["![sweep](sweep.png)", "", "| " + " | ".join(header[:-1]) + " |", "|" + "---|" * (len(header) - 1)]
-    for row in rows:
-        lines.append("| " + " | ".join(_fmt(v) for v in row[:-1]) + " |")
+    lines += ["![sweep](sweep.png)", "", "| " + " | ".join(header[:-2]) + " |", "|" + "---|" * (len(header) - 2)]
+    for row in rows:  # errors and warnings: in their sections below
+        lines.append("| " + " | ".join(_fmt(v) for v in row[:-2]) + " |")
     lines.append("")
     failed = [r for r in records if r["status"] != "ok"]
     if failed:
@@ -422,7 +425,7 @@ def _sweep_warnings(job, records: list[dict], shown_at_most: int = 50) -> list[s
     warned = [r for r in records if r.get("warnings")]
     if not warned:
         return []
-    lines = [f"## Warnings ({len(warned)} points)", ""]
+    lines = [f"## Warnings ({len(warned)} {'point' if len(warned) == 1 else 'points'})", ""]
     for r in warned[:shown_at_most]:
         where = ", ".join(f"{n} = {_param(job, n, r['parameters'][n])}" for n in job.sweep_names)
         lines.append(f"- evaluation {r['index']} ({where}): " + "; ".join(r["warnings"]))

@@ -236,10 +236,12 @@ def test_set_twice_exit_2(capsys, cold_cache, tmp_path):
     ("run", "t_end", "(the simulation's t_end is set with --t-end)"),
     ("run", "simulation.solver", "(the simulation's solver is set with --solver)"),
     ("run", "rtol", "(rtol is a simulation setting: change it in the netlist's simulation: section)"),
-    ("diff", "t_end", "(t_end is a simulation setting: change it in the netlist's simulation: section)"),
+    ("diff", "t_end", "(the simulation's t_end is set with --t-end)"),
+    ("diff", "solver", "(solver is a simulation setting: change it in the netlist's simulation: section)"),
 ])
 def test_set_of_a_simulation_setting_says_where_it_is_set(capsys, cold_cache, tmp_path, command, name, hint):
-    """Old: "unknown parameter 't_end'" and nothing more. vphs diff has no --t-end: the netlist it is."""
+    """Old: "unknown parameter 't_end'" and nothing more. vphs diff takes --t-end as run does (review 25),
+    not --solver: for that, the netlist it is."""
     ref = tmp_path / "ref.csv"
     ref.write_text("t [s],x [mm]\n0.5,1\n")
     args = [command, str(EXAMPLES / "drive_line.yaml")] + ([str(ref)] if command == "diff" else [])

@@ -94,12 +94,12 @@ def test_the_strategies_listed_are_scipys():
 
 
 @pytest.mark.parametrize("setting, method, message", [
-    ("tol: .inf", "differential_evolution", "algorithm.tol: Input should be a finite number"),
-    ("atol: .inf", "differential_evolution", "algorithm.atol: Input should be a finite number"),
-    ("xatol: .inf", "nelder_mead", "algorithm.xatol: Input should be a finite number"),
-    ("fatol: .inf", "nelder_mead", "algorithm.fatol: Input should be a finite number"),
-    ("tol_x: .inf", "complex", "algorithm.tol_x: Input should be a finite number"),
-    ("tol_f: .inf", "complex", "algorithm.tol_f: Input should be a finite number"),
+    ("tol: .inf", "differential_evolution", "algorithm.tol: must be a finite number, got inf"),
+    ("atol: .inf", "differential_evolution", "algorithm.atol: must be a finite number, got inf"),
+    ("xatol: .inf", "nelder_mead", "algorithm.xatol: must be a finite number, got inf"),
+    ("fatol: .inf", "nelder_mead", "algorithm.fatol: must be a finite number, got inf"),
+    ("tol_x: .inf", "complex", "algorithm.tol_x: must be a finite number, got inf"),
+    ("tol_f: .inf", "complex", "algorithm.tol_f: must be a finite number, got inf"),
     ("candidates: true", "complex", "algorithm.candidates: true is not a number"),
 ])
 def test_settings_that_stop_a_method_at_once_or_read_a_boolean_are_refused(tmp_path, setting, method, message):
