@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-import cli
+from test_diff import run, write
 
 ROOT = Path(__file__).resolve().parents[2]
 DRIVE_LINE = ROOT / "netlists" / "examples" / "drive_line.yaml"
@@ -27,15 +27,6 @@ REF_PX = "x [mm],p [bar]\n65,24\n75,36\n"
 REF_PT = "# in time\nt [s],p [bar]\n0.1,11\n0.35,26\n0.45,35\n"
 
 
-def write(path: Path, text: str) -> Path:
-    path.write_text(text)
-    return path
-
-
-def run(capsys, *argv) -> tuple[int, str, str]:
-    code = cli.main([str(a) for a in argv])
-    captured = capsys.readouterr()
-    return code, captured.out, captured.err
 
 
 def test_the_monotonicity_error_tells_the_values_apart_and_says_when(tmp_path, capsys):
