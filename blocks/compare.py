@@ -399,8 +399,8 @@ def apply_window(simulated: Table, reference: Table, x: str, t_from: float | Non
     the comparison's abscissa is the simulated t (a time series), the reference points in the same window;
     with another abscissa (pressure along the stroke) every reference point stays, to be found on the
     windowed curve. Returns (simulated, reference, span, outside): the window as said in reports
-    ("t 0.6 .. 2.5 s") and the count of reference points it left out. The window is first checked against the simulated t (:func:`window_problem`);
-    a problem is raised as a ValueError with the message alone."""
+    ("t 0.6 .. 2.5 s") and the count of reference points it left out. The window is first checked against
+    the simulated t (:func:`window_problem`); a problem is raised as a ValueError with the message alone."""
     if "t" not in simulated.columns:
         raise ValueError(f"--t-from/--t-to: {simulated.file} has no column 't' to take a window of "
                          f"(columns: {', '.join(simulated.columns)})")

@@ -104,8 +104,9 @@ _UNCLOSED = {"while parsing a flow mapping": "is its closing brace missing?",
 def _yaml_context(exc) -> str:
     """PyYAML's context, said where it starts (" (while parsing a flow mapping that starts at line 19,
     column 12; is its closing brace missing?)"), or "". The hint names the brace in words: quoted, it
-    would pair with the problem's quotes where messages are shortened (:func:`blocks.errors.shorten_values`). The problem is found where the parser gave up, often the
-    line after the slip (an unclosed '{' is noticed at the next key); the context's place is the slip's."""
+    would pair with the problem's quotes where messages are shortened (:func:`blocks.errors.shorten_values`).
+    The problem is found where the parser gave up, often the line after the slip (an unclosed '{' is noticed
+    at the next key); the context's place is the slip's."""
     context, where = (exc.context or "").strip(), exc.context_mark
     if not (exc.problem and context and where) or (exc.problem_mark is not None and
                                                     (where.line, where.column) == (exc.problem_mark.line,

@@ -15,7 +15,8 @@ class ReliefValve(Block):
 
     s is the C1 cubic ramp: 0 for dp <= p_set (closed, only leakage A_leak), 1 for dp >= p_open (fully
     open, area A_max); p_open - p_set is the pressure override (regulation range) and must be > 0 for a
-    smooth opening (checked when the values are set), and A_leak <= A_max (checked). Same law as the check valve, with a working-pressure setting.
+    smooth opening (checked when the values are set), and A_leak <= A_max (checked). Same law as the check
+    valve, with a working-pressure setting.
 
     q > 0 flows from a to b: the block delivers -q to net a and +q to net b.
     """
