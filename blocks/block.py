@@ -209,6 +209,9 @@ class Block:
     `vphs linearise` says so (:mod:`blocks.regularisation`). Only a smoothing whose slope the machine does
     not have is declared: not a square-root orifice law's near dp = 0 (a real orifice is laminar there,
     :func:`blocks.library.hydraulic.flow.turbulent_flow`)."""
+    regularised_reads: ClassVar[tuple[str, ...]] = ()
+    """Ports or scalar states whose values at the point a regularised law's size reads (a motor's friction,
+    (1 - eta_hm)*D*|p_a - p_b|, reads ``a`` and ``b``): observed with the regularised signals."""
     rigid_link: ClassVar[tuple[str, str] | None] = None
     """(a, b): the two ports are joined rigidly, w_b = ratio(params) * w_a (gears, rack and pinion)."""
     outputs: ClassVar[Callable | None] = None
@@ -332,23 +335,30 @@ class Regularisation:
     """A regularised signal's band, |signal| < width (SI), in which the block's law is its smoothing's, not
     the machine's, and what a linearisation inside it takes for physics, as the note says it: "fric: the
     point lies inside the Coulomb friction's smoothing band (|v| = 6.59e-06 m/s < 3*v_w = 0.003 m/s): there
-    its slope Fc/v_w = 3e+05 N*s/m is the regularisation's, not physics, and the modes that move it are
-    damped by the smoothing, not by the machine (a real Coulomb friction at rest sticks, or slips once the
-    force on it exceeds its breakaway)".
+    its slope, 3e+05 N*s/m (Fc/v_w = 3e+05 N*s/m at v = 0), is the regularisation's, not physics: a mode
+    that moves v takes it for a damper (a real Coulomb friction at rest sticks, or slips once the force on it
+    exceeds its breakaway)".
 
-    ``width_text`` is how the width follows from the parameters ("3*v_w"); ``slope`` [SI, ``slope_unit``]
-    the smoothed law's slope through 0, written ``slope_text`` ("Fc/v_w"), None where it depends on the
-    point (a motor's friction on its pressure: ``slope_text`` alone is said); ``law`` names the smoothed law
-    ("the Coulomb friction") and ``real`` what the machine does in the band instead."""
+    ``law(s, reads)`` is the smoothed law (the part that jumps, e.g. Fc*tanh(v/v_w)) as a function of the
+    signal s [SI] and ``reads``, the point's values of the block's ``regularised_reads`` by name; its slope
+    (:meth:`slope`) is the one the linear model takes. ``width_text`` is how the width follows from the
+    parameters ("3*v_w"); ``slope_text`` the slope through 0 as a formula ("Fc/v_w") [``slope_unit``];
+    ``what`` names the smoothed law ("the Coulomb friction") and ``real`` what the machine does in the band
+    instead."""
 
     signal: str
     width: float
     width_text: str
-    slope: float | None
+    law: Callable[[float, dict], float]
     slope_text: str
     slope_unit: str
-    law: str
+    what: str
     real: str
+
+    def slope(self, s: float, reads: dict) -> float:
+        """d(law)/ds at s, by central differences over 1e-4 of the band (the laws are smooth there)."""
+        h = 1e-4 * self.width
+        return (self.law(s + h, reads) - self.law(s - h, reads)) / (2.0 * h)
 
 
 def argument_names(function: Callable) -> list[str]:
@@ -407,7 +417,9 @@ def check_declarations(cls: type[Block]) -> None:
         if any(arg not in {p.name for p in cls.params} for arg in argument_names(cls.ratio)):
             raise TypeError(f"{owner}.ratio may take parameters only")
     through = {PortKind.HYDRAULIC: "flow", PortKind.ROTATIONAL: "torque", PortKind.TRANSLATIONAL: "force"}
-    for what_kind, refs in (("checked", cls.checked), ("regularised", cls.regularised)):
+    for what_kind, refs in (("checked", cls.checked), ("regularised", cls.regularised),
+                            ("regularised_reads", tuple(r for r in cls.regularised_reads
+                                                        if r not in {st.name for st in cls.states}))):
         for ref in refs:
             port_name, _, what = ref.partition(".")
             port = next((p for p in cls.ports if p.name == port_name), None)

@@ -9,13 +9,18 @@ Coulomb friction at rest sticks until the force on it exceeds Fc, or slips; it i
 boom, v_w = 1 mm/s gave two real modes at -68 and -83 1/s where v_w = 1 cm/s gave 12 Hz at zeta = 0.095 and
 Fc = 0 gave 12 Hz at zeta = 0.007.
 
-A block declares the signals it smooths so (``Block.regularised``: a port's speed) and, from its parameters,
-each one's band, |signal| < width, and the smoothed law's slope through 0 (``Block.regularisations``). The
-compiled ``observe`` computes them after the checked signals (:func:`blocks.valid_ranges.monitors`);
-:func:`band_notes` reads them at the operating point and gives a line for each that lies inside its band.
+A block declares the signals it smooths so (``Block.regularised``: a port's speed), what the smoothed law's
+size reads at the point (``Block.regularised_reads``: a motor's port pressures) and, from its parameters,
+each one's band, |signal| < width, and the smoothed law itself (``Block.regularisations``). The compiled
+``observe`` computes the signals and the reads after the checked signals (:func:`blocks.valid_ranges.
+monitors`); :func:`band_notes` reads them at the operating point and gives a line for each signal that lies
+inside its band where the law has a slope there, quoting that slope (the one the linear model takes:
+Fc/v_w*sech(v/v_w)^2 for a tanh) beside its value through 0.
 """
 
 from __future__ import annotations
+
+import math
 
 import numpy as np
 
@@ -28,41 +33,49 @@ width blocks declare, the slope is still 42 % of it."""
 STICKS = "a real Coulomb friction at rest sticks, or slips once the force on it exceeds its breakaway"
 
 
-def tanh_band(signal: str, amplitude: float | None, width: float, width_name: str, slope_text: str,
-              slope_unit: str, law: str = "the Coulomb friction", real: str = STICKS) -> tuple[Regularisation, ...]:
-    """The band of a law amplitude*tanh(signal/width) that smooths amplitude*sign(signal): |signal| <
-    TANH_BAND*width, the slope through 0 amplitude/width (``amplitude`` None: it depends on the point, and
-    ``slope_text`` alone is said); none where the amplitude is 0 (nothing jumps)."""
-    if amplitude == 0.0:
-        return ()
+def tanh_band(signal: str, size, width: float, width_name: str, slope_text: str, slope_unit: str,
+              what: str = "the Coulomb friction", real: str = STICKS) -> tuple[Regularisation, ...]:
+    """The band of a law size*tanh(signal/width) that smooths size*sign(signal): |signal| < TANH_BAND*width.
+    ``size`` is a number, or a function (s, reads) -> number where it follows the point (a motor's friction
+    the pressures it reads, a Stribeck friction the speed); none where it is the number 0 (nothing jumps)."""
+    if not callable(size):
+        if size == 0.0:
+            return ()
+        size = (lambda value: lambda s, reads: value)(float(size))
     return (Regularisation(signal, TANH_BAND * width, f"{TANH_BAND:g}*{width_name}",
-                           None if amplitude is None else amplitude / width, slope_text, slope_unit, law, real),)
+                           lambda s, reads: size(s, reads) * math.tanh(s / width), slope_text, slope_unit, what,
+                           real),)
 
 
 def band_notes(circuit, point) -> list[str]:
     """A line for each regularised signal that lies inside its band at ``point`` (a
-    :class:`blocks.linearise.OperatingPoint`): the block, the signal's value and the band, the slope the
-    linear model takes there and what the machine does instead."""
+    :class:`blocks.linearise.OperatingPoint`) where the smoothed law has a slope: the block, the signal's
+    value and the band, the slope the linear model takes there (and through 0, by its formula), and what the
+    machine does instead. None where the law is flat at the point (a motor's friction with no pressure
+    across it: nothing is taken for physics)."""
     vec = circuit.vectors(point.overrides)
     y = np.zeros(circuit.n_observed)
     circuit.module.observe(point.t, np.asarray(point.x, dtype=float), vec.theta, y)
-    notes, bands = [], {}
-    for monitor, value in zip(circuit.monitors, y[len(circuit.outputs):]):
-        cls = circuit.flat.components[monitor.comp].cls
-        if monitor.ref not in cls.regularised:
+    observed = {(m.comp, m.ref): (value, m.unit) for m, value in zip(circuit.monitors, y[len(circuit.outputs):])}
+    notes = []
+    for comp, spec in circuit.flat.components.items():
+        cls = spec.cls
+        if not cls.regularised:
             continue
-        if monitor.comp not in bands:
-            bands[monitor.comp] = {r.signal: r for r in
-                                   cls.regularisations(circuit.block_values(monitor.comp, vec.values))}
-        band = bands[monitor.comp].get(monitor.ref)
-        if band is None or not abs(value) < band.width:
-            continue
-        unit, symbol = monitor.unit, _symbol(cls, monitor.ref)
-        slope = band.slope_text if band.slope is None else f"{band.slope_text} = {band.slope:.3g} {band.slope_unit}"
-        notes.append(f"{monitor.comp}: the point lies inside {band.law}'s smoothing band (|{symbol}| "
-                     f"= {abs(value):.3g} {unit} < {band.width_text} = {band.width:.3g} {unit}): there its slope "
-                     f"{slope} is the regularisation's, not physics, and the modes that move it are damped by the "
-                     f"smoothing, not by the machine ({band.real})")
+        reads = {ref: observed[(comp, ref)][0] for ref in cls.regularised_reads}
+        for band in cls.regularisations(circuit.block_values(comp, vec.values)):
+            value, unit = observed[(comp, band.signal)]
+            if not abs(value) < band.width:
+                continue
+            here, through_zero = band.slope(value, reads), band.slope(0.0, reads)
+            if not here > 0.0:
+                continue
+            symbol = _symbol(cls, band.signal)
+            notes.append(f"{comp}: the point lies inside {band.what}'s smoothing band (|{symbol}| = {abs(value):.3g} "
+                         f"{unit} < {band.width_text} = {band.width:.3g} {unit}): there its slope, {here:.3g} "
+                         f"{band.slope_unit} ({band.slope_text} = {through_zero:.3g} {band.slope_unit} at {symbol} "
+                         f"= 0), is the regularisation's, not physics: a mode that moves {symbol} takes it for a "
+                         f"damper ({band.real})")
     return notes
 
 

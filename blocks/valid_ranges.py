@@ -8,8 +8,9 @@ a signal that left it gives one warning line: the block, the signal, when it fir
 value furthest outside it and what the block does there ("the table's end value is held"). A value between
 two output samples is not seen: the check is as fine as ``dt_out``.
 
-The signals a block declares ``regularised`` (:mod:`blocks.regularisation`) are observed after the checked
-ones, the same way: they have no valid range, and are read at a linearisation's operating point only.
+The signals a block declares ``regularised`` (:mod:`blocks.regularisation`), and those their laws read,
+are observed after the checked ones, the same way: they have no valid range, and are read at a
+linearisation's operating point only.
 """
 
 from __future__ import annotations
@@ -42,12 +43,13 @@ class Monitor:
 
 
 def monitors(circuit) -> list[Monitor]:
-    """Every checked signal of every block of the circuit, then every regularised one that is not also
-    checked, resolved as an output would be."""
+    """Every checked signal of every block of the circuit, then every regularised one and what their laws
+    read (``regularised_reads``) that is not observed already, resolved as an output would be."""
     found = []
     refs = [(comp, ref) for comp, spec in circuit.flat.components.items() for ref in spec.cls.checked]
-    refs += [(comp, ref) for comp, spec in circuit.flat.components.items() for ref in spec.cls.regularised
-             if ref not in spec.cls.checked]
+    for comp, spec in circuit.flat.components.items():
+        refs += [(comp, ref) for ref in dict.fromkeys(spec.cls.regularised + spec.cls.regularised_reads)
+                 if ref not in spec.cls.checked]
     for comp, ref in refs:
         name = f"{comp}.{ref}"
         expr, unit = circuit.generator.resolve_output(name)

@@ -58,7 +58,8 @@ def linearise(tmp_path, capsys, *args) -> tuple[str, str, list[complex]]:
 def test_at_rest_the_friction_s_smoothing_is_said_to_set_the_damping(tmp_path, capsys):
     out, modes, found = linearise(tmp_path, capsys, "--at", "0")
     note = ("fric: the point lies inside the Coulomb friction's smoothing band (|v| = 0 m/s < 3*v_w = 0.003 m/s): "
-            "there its slope Fc/v_w = 3e+05 N*s/m is the regularisation's, not physics")
+            "there its slope, 3e+05 N*s/m (Fc/v_w = 3e+05 N*s/m at v = 0), is the regularisation's, not physics: "
+            "a mode that moves v takes it for a damper")
     assert f"# {note}" in out and "(a real Coulomb friction at rest sticks" in out
     assert f"# {note}" in modes  # the modes CSV says it too
     # the model's modes are those of the smoothing's damper: s^2 + c/m*s + k/m = 0, c = Fc/v_w

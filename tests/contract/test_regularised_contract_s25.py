@@ -37,22 +37,42 @@ def test_bands_where_the_law_jumps(name):
     values = default_params(cls) | JUMPING.get(name, {})
     bands = cls.regularisations(values)
     assert {b.signal for b in bands} == set(cls.regularised), f"{name}: a regularised signal without a band"
+    # 10, 20, 30 bar on the ports (a pressure across the machine), a setting clamped to its maximum
+    reads = {ref: 1e6 * (k + 1) for k, ref in enumerate(cls.regularised_reads)}
     for band in bands:
         assert isinstance(band, Regularisation)
         assert band.width > 0 and math.isfinite(band.width), band
-        assert band.slope is None or (band.slope > 0 and math.isfinite(band.slope)), band
-        assert band.slope_text and band.law and len(band.real) > 10, band
+        slope = band.slope(0.0, reads)
+        assert slope > 0 and math.isfinite(slope), band
+        assert band.slope(band.width, reads) < 0.011 * slope, band  # past the band the law is flat: sign(s)
+        assert band.slope_text and band.what and len(band.real) > 10, band
 
 
 def test_a_friction_s_band_and_slope_from_its_parameters():
     band, = TransFriction.regularisations({"Fc": 300.0, "b": 2000.0, "v_w": 1e-3})
     assert (band.signal, band.width, band.width_text) == ("port", pytest.approx(3e-3), "3*v_w")
-    assert (band.slope, band.slope_text, band.slope_unit) == (pytest.approx(3e5), "Fc/v_w", "N*s/m")
+    assert (band.slope(0.0, {}), band.slope_text, band.slope_unit) == (pytest.approx(3e5), "Fc/v_w", "N*s/m")
+    assert band.slope(2e-3, {}) == pytest.approx(3e5 / math.cosh(2.0) ** 2, rel=1e-6)  # the slope the model takes
     assert TANH_BAND == 3.0 and math.tanh(TANH_BAND) > 0.995  # beyond the band tanh is sign to 0.5 %
     band, = StribeckFriction.regularisations({"Tc": 2.0, "dTs": 1.0, "w_s": 1.0, "b": 0.0, "w_w": 0.01})
-    assert band.slope == pytest.approx(300.0) and band.slope_unit == "N*m*s/rad"  # (Tc + dTs)/w_w
+    assert band.slope(0.0, {}) == pytest.approx(300.0) and band.slope_unit == "N*m*s/rad"  # (Tc + dTs)/w_w
     assert TransFriction.regularisations({"Fc": 0.0, "b": 2000.0, "v_w": 1e-3}) == ()  # nothing jumps
     assert REGISTRY["hydraulic_motor"].regularisations(default_params(REGISTRY["hydraulic_motor"])) == ()
+
+
+def test_a_machine_s_friction_band_takes_its_size_from_the_pressures_at_the_point():
+    """(1 - eta_hm)*D*|p_a - p_b|/w_w: 0 with no pressure across the motor (a review found the note said
+    where the smoothing's slope was 0)."""
+    motor = REGISTRY["hydraulic_motor"]
+    values = default_params(motor) | {"eta_hm": 0.9, "D": 1e-5, "w_w": 0.1}
+    band, = motor.regularisations(values)
+    assert band.slope(0.0, {"a": 20e5, "b": 20e5}) == 0.0
+    assert band.slope(0.0, {"a": 120e5, "b": 20e5}) == pytest.approx(0.1 * 1e-5 * 100e5 / 0.1, rel=1e-6)
+    pump = REGISTRY["variable_pump"]
+    values = default_params(pump) | {"eta_hm": 0.8, "D_max": 2e-5, "eps_max": 1.0, "w_w": 0.1}
+    band, = pump.regularisations(values)
+    assert band.slope(0.0, {"s": 0.0, "p": 100e5, "eps": 0.5}) == pytest.approx(0.25 * 0.5 * 2e-5 * 100e5 / 0.1,
+                                                                                rel=1e-6)
 
 
 def _throwaway(regularised, with_bands):
@@ -75,7 +95,8 @@ def _throwaway(regularised, with_bands):
     Smoothed.regularised = regularised
     if with_bands:
         Smoothed.regularisations = classmethod(
-            lambda cls, values: (Regularisation("port", 3.0, "3", 1.0, "1", "N*s/m", "it", "it sticks"),))
+            lambda cls, values: (Regularisation("port", 3.0, "3", lambda s, reads: math.tanh(s), "1", "N*s/m", "it",
+                                                "it sticks"),))
     return Smoothed
 
 
@@ -89,3 +110,12 @@ def test_regularised_signals_need_their_bands():
     with pytest.raises(TypeError, match=r"declares regularised signals \['port'\] but no regularisations\(\)"):
         check_declarations(_throwaway(("port",), False))
     check_declarations(_throwaway(("port", "port.force"), True))
+
+
+def test_a_regularised_read_must_name_a_port_or_a_state():
+    block = _throwaway(("port",), True)
+    block.regularised_reads = ("p_a",)
+    with pytest.raises(TypeError, match="regularised_reads signal 'p_a' is neither a port"):
+        check_declarations(block)
+    block.regularised_reads = ("u",)
+    check_declarations(block)

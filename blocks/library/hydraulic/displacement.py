@@ -12,6 +12,20 @@ from blocks.library.hydraulic.flow import smooth_step
 FILL_BAND = 0.1 * CAVITY_ONSET  # Pa: below p_vap, the chambers' fill falls from 1 to 0 over this band
 
 
+def friction_band(loss: float, displacement, high: str, low: str, w_w: float, slope_text: str, what: str):
+    """The regularisation band (:func:`blocks.regularisation.tanh_band`) of a machine's Coulomb friction,
+    loss*|D*(p_high - p_low)|*tanh(w/w_w): ``loss`` is (1 - eta_hm) for a motor, (1/eta_hm - 1) for a pump
+    (none at 0), ``displacement`` D [m^3/rad] or a function of the point's reads (a variable pump's
+    setting), ``high`` and ``low`` the ports the friction's pressure is read at."""
+    from blocks.regularisation import tanh_band
+
+    if loss == 0.0:
+        return ()
+    size = displacement if callable(displacement) else (lambda d: lambda reads: d)(displacement)
+    return tanh_band("shaft", lambda s, reads: loss * abs(size(reads) * (reads[high] - reads[low])), w_w, "w_w",
+                     slope_text, "N*m*s/rad", what)
+
+
 def vapour_pressure_param() -> Param:
     """The pressure below which a machine's chambers fill with vapour: the fluid's vapour pressure, or never
     (-1e30 Pa) with the netlist's ``fluid: {cavitation: false}`` (the liquid at every pressure)."""

@@ -3,8 +3,7 @@
 import math
 
 from blocks.block import Block, Param, hydraulic, rotational
-from blocks.library.hydraulic.displacement import chamber_fill, vapour_pressure_param
-from blocks.regularisation import tanh_band
+from blocks.library.hydraulic.displacement import chamber_fill, friction_band, vapour_pressure_param
 from blocks.registry import register
 
 
@@ -59,12 +58,13 @@ class HydraulicMotor(Block):
     )
 
     regularised = ("shaft",)
+    regularised_reads = ("a", "b")
 
     @classmethod
     def regularisations(cls, values: dict):
-        """The friction's tanh band; its slope depends on the pressures at the point (none at eta_hm = 1)."""
-        return tanh_band("shaft", None if values["eta_hm"] < 1.0 else 0.0, values["w_w"], "w_w",
-                         "(1 - eta_hm)*D*|p_a - p_b|/w_w", "N*m*s/rad", "the motor's Coulomb friction")
+        """The friction's tanh band, its size from the pressures at the point (none at eta_hm = 1)."""
+        return friction_band(1.0 - values["eta_hm"], values["D"], "a", "b", values["w_w"],
+                             "(1 - eta_hm)*D*|p_a - p_b|/w_w", "the motor's Coulomb friction")
 
     @staticmethod
     def derivatives(a, b, shaft, D, G_leak, J_m, eta_hm, w_w, p_vap):

@@ -1,8 +1,7 @@
 """Fixed-displacement hydraulic pump."""
 
 from blocks.block import Block, Param, hydraulic, rotational
-from blocks.library.hydraulic.displacement import pump_flow_and_torque, vapour_pressure_param
-from blocks.regularisation import tanh_band
+from blocks.library.hydraulic.displacement import friction_band, pump_flow_and_torque, vapour_pressure_param
 from blocks.registry import register
 
 
@@ -63,12 +62,13 @@ class Pump(Block):
     )
 
     regularised = ("shaft",)
+    regularised_reads = ("s", "p")
 
     @classmethod
     def regularisations(cls, values: dict):
-        """The friction's tanh band; its slope depends on the pressures at the point (none at eta_hm = 1)."""
-        return tanh_band("shaft", None if values["eta_hm"] < 1.0 else 0.0, values["w_w"], "w_w",
-                         "(1/eta_hm - 1)*D*|p_p - p_s|/w_w", "N*m*s/rad", "the pump's Coulomb friction")
+        """The friction's tanh band, its size from the pressures at the point (none at eta_hm = 1)."""
+        return friction_band(1.0 / values["eta_hm"] - 1.0, values["D"], "p", "s", values["w_w"],
+                             "(1/eta_hm - 1)*D*|p_p - p_s|/w_w", "the pump's Coulomb friction")
 
     @staticmethod
     def derivatives(s, p, shaft, D, G_leak, J_p, eta_hm, w_w, p_vap):

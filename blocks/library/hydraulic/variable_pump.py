@@ -1,10 +1,9 @@
 """Variable-displacement pump with a pressure compensator."""
 
 from blocks.block import Block, Param, State, hydraulic, rotational, signal_out
-from blocks.library.hydraulic.displacement import pump_flow_and_torque, vapour_pressure_param
+from blocks.library.hydraulic.displacement import friction_band, pump_flow_and_torque, vapour_pressure_param
 from blocks.library.hydraulic.flow import smooth_step
 from blocks.library.signal.linear import clamp
-from blocks.regularisation import tanh_band
 from blocks.registry import register
 
 
@@ -73,12 +72,16 @@ class VariablePump(Block):
         return None
 
     regularised = ("shaft",)
+    regularised_reads = ("s", "p", "eps")
 
     @classmethod
     def regularisations(cls, values: dict):
-        """The friction's tanh band; its slope depends on the pressures at the point (none at eta_hm = 1)."""
-        return tanh_band("shaft", None if values["eta_hm"] < 1.0 else 0.0, values["w_w"], "w_w",
-                         "(1/eta_hm - 1)*e*D_max*|p_p - p_s|/w_w", "N*m*s/rad", "the pump's Coulomb friction")
+        """The friction's tanh band, its size from the pressures and the setting at the point (none at
+        eta_hm = 1)."""
+        d_max, e_max = values["D_max"], values["eps_max"]
+        return friction_band(1.0 / values["eta_hm"] - 1.0, lambda reads: min(max(reads["eps"], 0.0), e_max) * d_max,
+                             "p", "s", values["w_w"], "(1/eta_hm - 1)*e*D_max*|p_p - p_s|/w_w",
+                             "the pump's Coulomb friction")
 
     @staticmethod
     def outputs(eps, eps_max):

@@ -38,7 +38,11 @@ class StribeckFriction(Block):
 
     @classmethod
     def regularisations(cls, values: dict):
-        return tanh_band("port", values["Tc"] + values["dTs"], values["w_w"], "w_w", "(Tc + dTs)/w_w", "N*m*s/rad")
+        tc, dts, w_s = values["Tc"], values["dTs"], values["w_s"]
+        if tc + dts == 0.0:
+            return ()
+        return tanh_band("port", lambda s, reads: tc + dts * math.exp(-(s / w_s) ** 2), values["w_w"], "w_w",
+                         "(Tc + dTs)/w_w", "N*m*s/rad")
 
     @staticmethod
     def derivatives(port, Tc, dTs, w_s, b, w_w):
