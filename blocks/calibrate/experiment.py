@@ -21,7 +21,8 @@ An experiment file (YAML, ``netlists/experiments/*.yaml``; paths relative to the
       "2": {p_set: "p_set + 15 bar"}   # or an expression over the netlist's parameters (evaluated once)
     group_table: {file: crack.csv, columns: {crack: relief.p_set}}   # ... or read from a table per group:
                                          # one row per group, 'crack [bar]' in a unit of p_set's dimension
-                                         # (a name the table sets is not also set under groups:)
+                                         # (a name the table sets is not also set under groups:;
+                                         # a group's value, by either, takes the place of overrides:'s)
     free:                                # the declared free parameters, values in any unit of their dimension
       k_s: {initial: "50 bar", lower: "5 bar", upper: "500 bar"}   # step: the finite-difference step (> 0)
       shaft.initial: {initial: "0 rpm", per: group}   # one value per group (a time series: per run); a start
