@@ -553,8 +553,8 @@ def cmd_run(args) -> int:
         result.plot(args.plot, x=args.x, y=args.y)
     if not args.quiet:
         stats = ", ".join(f"{k} {v}" for k, v in result.stats.items())
-        compiled = f", after {result.compile_seconds:.1f} s compiling the integrator" if result.compile_seconds >= 0.5 \
-            else ""
+        compiled = (f", after {result.compile_seconds:.1f} s compiling (or loading from the cache) the integrator"
+                    if result.compile_seconds >= 0.5 else "")
         print(f"vphs: {args.netlist}: {settings.t_end - settings.t_start:g} s simulated in {result.seconds * 1e3:.1f} ms "
               f"({settings.solver}; {stats}{compiled})" + (f"; wrote {args.output}" if args.output else "")
               + (f", {args.plot}" if args.plot else ""), file=sys.stderr)
