@@ -41,9 +41,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
+from vphs_blocks import thesis_data
+
 ROOT = Path(__file__).resolve().parents[1]
 JOBS = ROOT / "netlists" / "jobs"
-DATA = ROOT.parent / "shared" / "data"
+DATA = thesis_data.DATA
 LOADS = (("0t", 0.0), ("7t5", 7500.0), ("15t", 15000.0))
 FRICTION = (("regular_7t5", 0.0), ("friction_cd0p01", 0.01), ("friction_cd0p1", 0.1), ("friction_cd1", 1.0))
 C_VIB = 3e-8  # eq. 4.2
@@ -428,4 +430,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(thesis_data.run(main))

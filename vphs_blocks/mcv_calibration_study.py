@@ -23,8 +23,10 @@ from pathlib import Path
 
 import numpy as np
 
+from vphs_blocks import thesis_data
+
 ROOT = Path(__file__).resolve().parents[1]
-SHARED = ROOT.parent / "shared" / "data"
+SHARED = thesis_data.DATA
 HAND = "<!-- written by hand below -->"
 
 
@@ -207,4 +209,4 @@ def main(argv=None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(thesis_data.run(main))

@@ -35,9 +35,11 @@ from pathlib import Path
 
 import numpy as np
 
+from vphs_blocks import thesis_data
+
 ROOT = Path(__file__).resolve().parents[1]
 RIG = ROOT / "netlists" / "rig"
-DATA = ROOT.parent / "shared" / "data"
+DATA = thesis_data.DATA
 MULTISTEP_NETLIST = RIG / "mcv_rig_multistep.yaml"
 CRACK_NETLIST = RIG / "mcv_rig_crack.yaml"
 STEP_NETLIST = RIG / "mcv_rig_step.yaml"
@@ -264,6 +266,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--skip-step", action="store_true")
     args = parser.parse_args(argv)
 
+    thesis_data.require(MEASURED_MULTISTEP, MEASURED_CRACK, THESIS_MULTISTEP)
     points = run_multistep(args.flow_force)
     write_multistep_csv(points, args.output, note=f"flow_force = {args.flow_force:g}")
     labels = [p.setting for p in points]
@@ -295,4 +298,4 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(thesis_data.run(main))
