@@ -47,6 +47,11 @@ STATE_STEP = 1e-6  # relative central-difference step (the optimum for central d
 PERTURBATION = 1e-10  # relative change of the linear model's entries that a response must survive (_through_states)
 ROUND_OFF = 100 * np.finfo(float).eps  # an entry times its step under this times its row's terms is rounding
 INTEGRATOR = 1e-12  # an eigenvalue below this fraction of the largest is taken as 0 (eig's rounding: ~1e-14)
+SPLIT = 1e-6
+"""A repeated real eigenvalue (a critically damped spool filter's -wn, twice) is found split by eig into a
+pair about sqrt(rounding) ~ 1e-8 of its size apart (-75.4 +- 1.6e-6j): an imaginary part under this
+fraction of the eigenvalue's size is rounding, and the two are real modes. A pair of zeta above
+1 - 5e-13 is no oscillation one could see either."""
 
 
 @dataclass
@@ -250,12 +255,14 @@ def _eigen(model: LinearModel) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 
 
 def _eig(A: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Eigenvalues (those under INTEGRATOR times the largest set to 0), left eigenvectors as rows
-    normalised to l_k r_k = 1, right eigenvectors as columns."""
+    """Eigenvalues (those under INTEGRATOR times the largest set to 0, an imaginary part under SPLIT times
+    the eigenvalue's size to 0), left eigenvectors as rows normalised to l_k r_k = 1, right eigenvectors as
+    columns."""
     if A.size == 0:
         return np.zeros(0, dtype=complex), np.zeros((0, 0), dtype=complex), np.zeros((0, 0), dtype=complex)
     values, vl, vr = scipy.linalg.eig(A, left=True, right=True)
     values = np.where(np.abs(values) <= INTEGRATOR * np.max(np.abs(values)), 0.0j, values)
+    values = np.where(np.abs(values.imag) <= SPLIT * np.abs(values), values.real + 0.0j, values)
     left = vl.conj().T
     norms = np.einsum("kj,jk->k", left, vr)
     left = left / np.where(norms == 0, 1.0, norms)[:, None]
