@@ -344,7 +344,8 @@ class Regularisation:
     (:meth:`slope`) is the one the linear model takes. ``width_text`` is how the width follows from the
     parameters ("3*v_w"); ``slope_text`` the slope through 0 as a formula ("Fc/v_w") [``slope_unit``];
     ``what`` names the smoothed law ("the Coulomb friction") and ``real`` what the machine does in the band
-    instead."""
+    instead; ``negligible`` [SI] a slope below which the law is as good as flat (a machine's friction with
+    a millibar across it), not said."""
 
     signal: str
     width: float
@@ -354,6 +355,7 @@ class Regularisation:
     slope_unit: str
     what: str
     real: str
+    negligible: float = 0.0
 
     def slope(self, s: float, reads: dict) -> float:
         """d(law)/ds at s, by central differences over 1e-4 of the band (the laws are smooth there)."""

@@ -34,7 +34,8 @@ STICKS = "a real Coulomb friction at rest sticks, or slips once the force on it 
 
 
 def tanh_band(signal: str, size, width: float, width_name: str, slope_text: str, slope_unit: str,
-              what: str = "the Coulomb friction", real: str = STICKS) -> tuple[Regularisation, ...]:
+              what: str = "the Coulomb friction", real: str = STICKS, negligible: float = 0.0
+              ) -> tuple[Regularisation, ...]:
     """The band of a law size*tanh(signal/width) that smooths size*sign(signal): |signal| < TANH_BAND*width.
     ``size`` is a number, or a function (s, reads) -> number where it follows the point (a motor's friction
     the pressures it reads, a Stribeck friction the speed); none where it is the number 0 (nothing jumps)."""
@@ -44,7 +45,7 @@ def tanh_band(signal: str, size, width: float, width_name: str, slope_text: str,
         size = (lambda value: lambda s, reads: value)(float(size))
     return (Regularisation(signal, TANH_BAND * width, f"{TANH_BAND:g}*{width_name}",
                            lambda s, reads: size(s, reads) * math.tanh(s / width), slope_text, slope_unit, what,
-                           real),)
+                           real, negligible),)
 
 
 def band_notes(circuit, point) -> list[str]:
@@ -68,7 +69,7 @@ def band_notes(circuit, point) -> list[str]:
             if not abs(value) < band.width:
                 continue
             here, through_zero = band.slope(value, reads), band.slope(0.0, reads)
-            if not here > 0.0:
+            if not here > band.negligible:
                 continue
             symbol = _symbol(cls, band.signal)
             notes.append(f"{comp}: the point lies inside {band.what}'s smoothing band (|{symbol}| = {abs(value):.3g} "

@@ -9,6 +9,7 @@ from blocks.block import Param
 from blocks.library.hydraulic.cavitation import CAVITY_ONSET
 from blocks.library.hydraulic.flow import smooth_step
 
+MILLIBAR = 100.0  # Pa
 FILL_BAND = 0.1 * CAVITY_ONSET  # Pa: below p_vap, the chambers' fill falls from 1 to 0 over this band
 
 
@@ -16,14 +17,17 @@ def friction_band(loss: float, displacement, high: str, low: str, w_w: float, sl
     """The regularisation band (:func:`blocks.regularisation.tanh_band`) of a machine's Coulomb friction,
     loss*|D*(p_high - p_low)|*tanh(w/w_w): ``loss`` is (1 - eta_hm) for a motor, (1/eta_hm - 1) for a pump
     (none at 0), ``displacement`` D [m^3/rad] or a function of the point's reads (a variable pump's
-    setting), ``high`` and ``low`` the ports the friction's pressure is read at."""
+    setting), ``high`` and ``low`` the ports the friction's pressure is read at. A slope below the one 1 mbar
+    across the machine at full displacement would give is not said (a motor at rest between two equal line
+    pressures: rounding leaves a few Pa across it)."""
     from blocks.regularisation import tanh_band
 
     if loss == 0.0:
         return ()
     size = displacement if callable(displacement) else (lambda d: lambda reads: d)(displacement)
+    full = max(size({high: 1.0, low: 0.0, "eps": 1e30}), 0.0)  # the displacement at its largest setting
     return tanh_band("shaft", lambda s, reads: loss * abs(size(reads) * (reads[high] - reads[low])), w_w, "w_w",
-                     slope_text, "N*m*s/rad", what)
+                     slope_text, "N*m*s/rad", what, negligible=loss * full * MILLIBAR / w_w)
 
 
 def vapour_pressure_param() -> Param:
