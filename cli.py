@@ -646,8 +646,9 @@ def cmd_diff(args) -> int:
             raise ArgumentError(f"vphs: {option} applies only when SIMULATED is a netlist")
     t_from = None if args.t_from is None else _seconds_option("--t-from", args.t_from)
     t_to = None if args.t_to is None else _seconds_option("--t-to", args.t_to)
-    if t_from is not None and t_to is not None and t_from >= t_to:
-        raise ArgumentError(f"vphs: --t-from '{args.t_from}' is not before --t-to '{args.t_to}'")
+    problem = window_problem(t_from, t_to)  # an empty window, before reading any file
+    if problem:
+        raise ArgumentError(f"vphs: {problem}")
     reference = read_table(args.reference)  # a bad reference fails before a long run
     check_reference_columns(reference, args.x, args.y)
     if netlist:
@@ -664,7 +665,7 @@ def cmd_diff(args) -> int:
             if problem:
                 raise ArgumentError(f"vphs: simulation.{problem[0]} (with --t-end): {problem[1]}")
         what = f"the run of {args.simulated}" + (" with --t-end" if args.t_end is not None else "")
-        problem = window_problem(settings.t_start, settings.t_end, t_from, t_to, what)
+        problem = window_problem(t_from, t_to, settings.t_start, settings.t_end, what)
         if problem:  # before the run, not after it
             raise ArgumentError(f"vphs: {problem}")
         circuit.compile(quiet=args.quiet)

@@ -356,10 +356,22 @@ def _check_increasing(table: Table, name: str, rows: np.ndarray | None = None) -
         what = "repeated" if step[k - 1] == 0 else "decreasing"
         later, earlier = distinct(x[k] / f, x[k - 1] / f)
         when = ""
-        if name != "t" and table.units.get("t") == "s" and "t" in table.columns:
-            when = f", at t = {float(table.columns['t'][rows[k]]):.10g} s"
+        if name != "t" and _is_time(table, "t"):  # in the file's unit: the columns are in SI (s)
+            unit = table.units["t"]
+            when = f", at t = {float(table.columns['t'][rows[k]]) / parse_unit(unit).factor:.10g} {unit}"
         raise table.error(f"x must be strictly increasing in the simulated curve: {later} after {earlier} "
                           f"({what}{when})", name, int(rows[k]))
+
+
+def _is_time(table: Table, name: str) -> bool:
+    """Whether ``table`` has a column ``name`` with the dimension of time (in whatever unit: s, ms, min)."""
+    unit = table.units.get(name)
+    if name not in table.columns or not unit:
+        return False
+    try:
+        return parse_unit(unit).same_dimension(parse_unit("s"))
+    except ValueError:
+        return False
 
 
 def distinct(a: float, b: float) -> tuple[str, str]:
@@ -377,30 +389,54 @@ def distinct(a: float, b: float) -> tuple[str, str]:
 
 
 # ---- a time window ---------------------------------------------------------------------------------------
-def window_problem(start: float, end: float, t_from: float | None, t_to: float | None, what: str) -> str | None:
-    """What is wrong with the window ``t_from .. t_to`` (s; None: that end of the run) for a run from
-    ``start`` to ``end`` (``what`` names it: a file, a netlist's simulation), or None. The window must lie
-    within the run (to the rounding a CSV's 10 digits leave, :data:`EDGE_TOLERANCE`) and not be empty: a
-    window past the end would compare nothing, or fewer points than the user asked, silently."""
-    slack = EDGE_TOLERANCE * max(end - start, 0.0)
+def _s(seconds: float) -> str:
+    """A time in s as reports write it (``:g``, and -0 as 0)."""
+    return f"{seconds + 0.0:g}"
+
+
+def window_problem(t_from: float | None, t_to: float | None, start: float | None = None, end: float | None = None,
+                   what: str = "") -> str | None:
+    """What is wrong with the window ``t_from .. t_to`` (s; None: that end of the run), or None. It must not
+    be empty (the one place this is checked: ``vphs diff`` asks before reading any file) and, given the run's
+    ``start`` and ``end`` (``what`` names it: a file, a netlist's simulation), lie within the run (to the
+    rounding a CSV's 10 digits leave, :data:`EDGE_TOLERANCE`): a window past the end would compare nothing,
+    or fewer points than the user asked, silently."""
     if t_from is not None and t_to is not None and t_from >= t_to:
-        return f"--t-from {t_from:g} s is not before --t-to {t_to:g} s"
+        return f"--t-from {_s(t_from)} s is not before --t-to {_s(t_to)} s"
+    if start is None or end is None:
+        return None
+    slack = EDGE_TOLERANCE * max(end - start, 0.0)
+    run = f"{what} ({_s(start)} .. {_s(end)} s)"
     if t_from is not None and not start - slack <= t_from < end:
         side = "before the start" if t_from < start else "at or after the end"
-        return f"--t-from {t_from:g} s is {side} of {what} ({start:g} .. {end:g} s)"
+        return f"--t-from {_s(t_from)} s is {side} of {run}"
     if t_to is not None and not start < t_to <= end + slack:
         side = "after the end" if t_to > end else "at or before the start"
-        return f"--t-to {t_to:g} s is {side} of {what} ({start:g} .. {end:g} s)"
+        return f"--t-to {_s(t_to)} s is {side} of {run}"
     return None
 
 
 def apply_window(simulated: Table, reference: Table, x: str, t_from: float | None, t_to: float | None):
-    """The simulated rows with t in ``t_from .. t_to`` (s, ends included; None: open at that end) and, when
-    the comparison's abscissa is the simulated t (a time series), the reference points in the same window;
-    with another abscissa (pressure along the stroke) every reference point stays, to be found on the
-    windowed curve. Returns (simulated, reference, span, outside): the window as said in reports
-    ("t 0.6 .. 2.5 s") and the count of reference points it left out. The window is first checked against
-    the simulated t (:func:`window_problem`); a problem is raised as a ValueError with the message alone."""
+    """The simulated curve over the window ``t_from .. t_to`` (s; None: open at that end) and, when the
+    comparison's abscissa is the simulated t (a time series), the reference points in the same window.
+    Returns (simulated, reference, span, outside): the window as said in reports ("t 0.6 .. 2.5 s") and the
+    count of reference points it left out. The window is first checked against the simulated t
+    (:func:`window_problem`); a problem is raised as a ValueError with the message alone.
+
+    The windowed curve is the run's own between the window's ends, not the samples that happen to lie in
+    it: every column interpolated linearly in t at t_from and at t_to (a sample within
+    :data:`EDGE_TOLERANCE` of an end is taken as that end, as it is), then the samples strictly between.
+    A reference time inside both the run and the window is so always on the curve, however far apart the
+    samples, and gets the value the whole run would give it. With another abscissa (pressure along the
+    stroke, ``--x x``) the window means the part of the curve the run traced from t_from to t_to: its ends
+    are the x the run had at those times. Keeping instead the samples that bracket the window would add
+    points from outside it (the creep of a hold before a lift, where x is not increasing, which is what the
+    window is there to leave out). With that abscissa every reference point stays, to be found on that part
+    of the curve (one outside it is an error that names the window).
+
+    t must be strictly increasing (an error names the row where it is not). With a grouping column that the
+    reference shares (a run per group, compared group by group), each group is windowed on its own, the
+    window cut to the group's times; a group with no time in the window is left out."""
     if "t" not in simulated.columns:
         raise ValueError(f"--t-from/--t-to: {simulated.file} has no column 't' to take a window of "
                          f"(columns: {', '.join(simulated.columns)})")
@@ -409,29 +445,100 @@ def apply_window(simulated: Table, reference: Table, x: str, t_from: float | Non
     if finite.size == 0:
         raise ValueError(f"--t-from/--t-to: {simulated.file}: the column 't' has no values")
     start, end = float(finite.min()), float(finite.max())
-    problem = window_problem(start, end, t_from, t_to, f"the simulated curve in {simulated.file}")
+    problem = window_problem(t_from, t_to, start, end, f"the simulated curve in {simulated.file}")
     if problem:
         raise ValueError(problem)
+    span = f"t {_s(start if t_from is None else t_from)} .. {_s(end if t_to is None else t_to)} s"
     slack = EDGE_TOLERANCE * (end - start)
-    lo = -math.inf if t_from is None else t_from - slack
-    hi = math.inf if t_to is None else t_to + slack
-    span = f"t {start if t_from is None else t_from:g} .. {end if t_to is None else t_to:g} s"
-    keep = np.flatnonzero((t >= lo) & (t <= hi))
-    if keep.size < 2:
-        raise ValueError(f"--t-from/--t-to: the window {span} holds {keep.size} simulated "
-                         f"{'sample' if keep.size == 1 else 'samples'} (at least two are needed)")
-    simulated = simulated.rows(keep)
+    lo = start if t_from is None else max(t_from, start)
+    hi = end if t_to is None else min(t_to, end)
+    segments = list(simulated.groups.values()) if _grouped(simulated, reference) else [np.arange(t.size)]
+    sources, ends = [], []  # the row each windowed row takes its place from; (position, row0, row1, t) to interpolate
+    for rows in segments:
+        _check_time(simulated, rows)
+        for source, interpolate in _window_rows(t[rows], lo, hi, slack):
+            if interpolate is not None:
+                i, tk = interpolate
+                ends.append((len(sources), rows[i], rows[i + 1], tk))
+                source = _source(simulated, rows[i], rows[i + 1], prefer=rows[source])
+            else:
+                source = rows[source]
+            sources.append(source)
+    if len(sources) < 2:
+        raise ValueError(f"--t-from/--t-to: no group of the simulated curve in {simulated.file} has two times in "
+                         f"the window {span}")
+    windowed = simulated.rows(np.array(sources))
+    for position, i, j, tk in ends:
+        w = (tk - t[i]) / (t[j] - t[i])
+        for name, column in windowed.columns.items():
+            a, b = simulated.columns[name][i], simulated.columns[name][j]
+            column[position] = a + w * (b - a)  # exactly a (or b) where the column is constant
+        windowed.columns["t"][position] = tk
     outside = 0
     x_sim, x_ref = split_pair(x)
     if x_sim == "t" and x_ref in reference.columns:
         xr = reference.columns[x_ref]
-        inside = np.flatnonzero(np.isnan(xr) | ((xr >= lo) & (xr <= hi)))  # an empty x stays, to be refused
+        width = EDGE_TOLERANCE * (hi - lo)  # as compare() allows at the curve's ends
+        below = -math.inf if t_from is None else t_from - width
+        above = math.inf if t_to is None else t_to + width
+        inside = np.flatnonzero(np.isnan(xr) | ((xr >= below) & (xr <= above)))  # an empty x stays, to be refused
         if inside.size == 0:
             raise ValueError(f"--t-from/--t-to: no reference point of {reference.file} lies in the window {span}")
         if inside.size < xr.size:
             outside = int(xr.size - inside.size)
             reference = reference.rows(inside)
-    return simulated, reference, span, outside
+    return windowed, reference, span, outside
+
+
+def _check_time(table: Table, rows: np.ndarray) -> None:
+    """A window needs t strictly increasing over ``rows``; errors name the file row."""
+    t = table.columns["t"][rows]
+    bad = np.flatnonzero(np.isnan(t))
+    if bad.size:
+        raise table.error("missing value (empty or NaN): a window (--t-from/--t-to) needs every time",
+                          "t", int(rows[bad[0]]))
+    step = np.diff(t)
+    bad = np.flatnonzero(step <= 0)
+    if bad.size:
+        k = int(bad[0]) + 1
+        f = parse_unit(table.units["t"]).factor
+        later, earlier = distinct(t[k] / f, t[k - 1] / f)
+        what = "repeated" if step[k - 1] == 0 else "decreasing"
+        raise table.error(f"t must be strictly increasing to take a window (--t-from/--t-to): {later} after "
+                          f"{earlier} ({what})", "t", int(rows[k]))
+
+
+def _window_rows(t: np.ndarray, lo: float, hi: float, slack: float):
+    """The rows of one segment's window ``lo .. hi`` (t strictly increasing; indices into t): a list of
+    (index, None) for a sample kept as it is and (index, (i, t_end)) for an end interpolated between samples
+    i and i + 1 (index: the bracketing sample outside the window, whose place the row takes in errors).
+    Empty when the segment has no two times in the window."""
+    lo, hi = max(lo, float(t[0])), min(hi, float(t[-1]))
+    if hi - lo <= slack:
+        return []
+    out = []
+    j = int(np.searchsorted(t, lo - slack))  # the first sample at or after the start (to the slack)
+    if t[j] <= lo + slack:
+        out.append((j, None))
+    else:
+        out.append((j - 1, (j - 1, lo)))
+    out += [(k, None) for k in np.flatnonzero((t > lo + slack) & (t < hi - slack))]
+    i = int(np.searchsorted(t, hi + slack, side="right")) - 1  # the last sample at or before the end
+    if t[i] >= hi - slack:
+        out.append((i, None))
+    else:
+        out.append((i + 1, (i, hi)))
+    return out
+
+
+def _source(table: Table, i: int, j: int, prefer: int) -> int:
+    """The row an interpolated row takes its place (file line, sample, labels) from: of the two samples
+    ``i`` and ``j`` it lies between, one with a missing value, so that an error about it names that row;
+    else ``prefer``."""
+    for k in (i, j):
+        if any(np.isnan(c[k]) for c in table.columns.values()):
+            return k
+    return prefer
 
 
 # ---- the simulated side ---------------------------------------------------------------------------------

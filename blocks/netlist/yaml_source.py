@@ -96,9 +96,10 @@ def parse_yaml_text(text: str, name: str) -> Located:
     return located
 
 
-_UNCLOSED = {"while parsing a flow mapping": "is its closing brace missing?",
-             "while parsing a flow sequence": "is its closing bracket missing?",
-             "while scanning a quoted scalar": "is its closing quote missing?"}
+_UNCLOSED = {"while parsing a flow mapping": "brace", "while parsing a flow sequence": "bracket"}
+"""The flow collections whose closing character the hint names: on a later line than the opening one the
+parser ran past where it should have closed (an unclosed '{' is noticed at the next key); on the same line
+a missing ',' between two entries is as likely ("{type: constant params: ...}")."""
 
 
 def _yaml_context(exc) -> str:
@@ -106,13 +107,22 @@ def _yaml_context(exc) -> str:
     column 12; is its closing brace missing?)"), or "". The hint names the brace in words: quoted, it
     would pair with the problem's quotes where messages are shortened (:func:`blocks.errors.shorten_values`).
     The problem is found where the parser gave up, often the line after the slip (an unclosed '{' is noticed
-    at the next key); the context's place is the slip's."""
+    at the next key); the context's place is the slip's. A problem on the construct's own line asks whether
+    a ',' or the closing brace is missing (see :data:`_UNCLOSED`). A quoted scalar's context comes only with
+    the end of the stream or a document separator ('---') reached inside it: its closing quote is missing
+    wherever that is (an unknown escape comes with another context, "a double-quoted scalar", and no hint)."""
     context, where = (exc.context or "").strip(), exc.context_mark
-    if not (exc.problem and context and where) or (exc.problem_mark is not None and
-                                                    (where.line, where.column) == (exc.problem_mark.line,
-                                                                                   exc.problem_mark.column)):
+    problem = exc.problem_mark
+    if not (exc.problem and context and where) or (problem is not None and
+                                                    (where.line, where.column) == (problem.line, problem.column)):
         return ""
-    hint = _UNCLOSED.get(context)
+    hint = None
+    if context == "while scanning a quoted scalar":
+        hint = "is its closing quote missing?"
+    elif context in _UNCLOSED:
+        closing = _UNCLOSED[context]
+        same_line = problem is not None and problem.line == where.line
+        hint = f"is a ',' or its closing {closing} missing?" if same_line else f"is its closing {closing} missing?"
     return f" ({context} that starts at line {where.line + 1}, column {where.column + 1}" + \
         (f"; {hint})" if hint else ")")
 

@@ -20,6 +20,18 @@ CASES = {
     "unclosed quote": (HEAD + 'parameters:\n  p: "180 bar\n', "5:1",
                        "invalid YAML: found unexpected end of stream (while scanning a quoted scalar that starts at "
                        "line 4, column 6; is its closing quote missing?)"),
+    # on the construct's own line a missing ',' is as likely as a missing brace (review 25, finding 4)
+    "comma missing in a mapping": (HEAD + "  c: {type: constant params: {value: 1}}\n", "3:28",
+                                   "invalid YAML: expected ',' or '}', but got ':' (while parsing a flow mapping "
+                                   "that starts at line 3, column 6; is a ',' or its closing brace missing?)"),
+    "comma missing in a sequence": (HEAD + "nets:\n  T: [tank.port, {a: b}  relief.b: c]\n", "4:26",
+                                    "invalid YAML: expected ',' or ']', but got '<scalar>' (while parsing a flow "
+                                    "sequence that starts at line 4, column 6; is a ',' or its closing bracket "
+                                    "missing?)"),
+    # a quoted scalar's context comes only with the end of the stream: the quote is unclosed even on its line
+    "unclosed quote on the last line": (HEAD + 'parameters:\n  p: "180 bar', "4:14",
+                                        "invalid YAML: found unexpected end of stream (while scanning a quoted "
+                                        "scalar that starts at line 4, column 6; is its closing quote missing?)"),
     "no context": (HEAD + "parameters: a: b\n", "3:14", "invalid YAML: mapping values are not allowed here"),
 }
 
