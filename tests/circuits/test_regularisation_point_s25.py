@@ -61,3 +61,10 @@ def test_a_note_away_from_zero_gives_the_slope_there(tmp_path, capsys):
     assert len(found) == 1 and f"there its slope, {here:.3g} N*m*s/rad (Tc/w_w = 10 N*m*s/rad at w = 0)" \
         in found[0], found
     assert here == pytest.approx(0.7065, abs=1e-4)
+
+
+def test_a_motor_with_a_rounding_s_pressure_across_it_has_no_note(tmp_path, capsys):
+    """50 Pa across (a locked motor's two lines equal but for rounding) is under the millibar: no note; 1 bar
+    across is over it."""
+    assert notes(tmp_path, capsys, MOTOR, "--set", "A.initial=20.0005 bar") == []
+    assert len(notes(tmp_path, capsys, MOTOR, "--set", "A.initial=21 bar")) == 1
