@@ -48,6 +48,16 @@ def tanh_band(signal: str, size, width: float, width_name: str, slope_text: str,
                            real, negligible),)
 
 
+def stribeck_band(signal: str, coulomb: float, stribeck: float, speed: float, width: float, width_name: str,
+                  slope_text: str, slope_unit: str) -> tuple[Regularisation, ...]:
+    """The band of a Stribeck friction's (coulomb + stribeck*exp(-(s/speed)^2))*tanh(s/width); none where
+    both are 0."""
+    if coulomb + stribeck == 0.0:
+        return ()
+    return tanh_band(signal, lambda s, reads: coulomb + stribeck * math.exp(-(s / speed) ** 2), width, width_name,
+                     slope_text, slope_unit)
+
+
 def band_notes(circuit, point) -> list[str]:
     """A line for each regularised signal that lies inside its band at ``point`` (a
     :class:`blocks.linearise.OperatingPoint`) where the smoothed law has a slope: the block, the signal's

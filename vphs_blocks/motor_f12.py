@@ -3,7 +3,7 @@
 import math
 
 from blocks.block import Block, Param, fluid_params, hydraulic, rotational
-from blocks.library.hydraulic.displacement import chamber_fill, friction_band, vapour_pressure_param
+from blocks.library.hydraulic.displacement import chamber_fill, motor_friction_band, vapour_pressure_param
 from blocks.library.hydraulic.flow import turbulent_flow
 from blocks.registry import register
 
@@ -81,8 +81,7 @@ class ParkerMotor(Block):
     @classmethod
     def regularisations(cls, values: dict):
         """The friction's tanh band, its size from the pressures at the point (none at eta_hm = 1)."""
-        return friction_band(1.0 - values["eta_hm"], values["D"], "a", "b", values["w_w"],
-                             "(1 - eta_hm)*D*|p_a - p_b|/w_w", "the motor's Coulomb friction")
+        return motor_friction_band(values)
 
     @staticmethod
     def derivatives(a, b, drain, shaft, D, A_lm, A_ld, J_m, eta_hm, w_w, B_v, Cd, dp_t, rho, p_vap):

@@ -30,6 +30,12 @@ def friction_band(loss: float, displacement, high: str, low: str, w_w: float, sl
                      slope_text, "N*m*s/rad", what, negligible=loss * full * MILLIBAR / w_w)
 
 
+def motor_friction_band(values: dict):
+    """A motor's friction band, (1 - eta_hm)*D*|p_a - p_b|*tanh(w/w_w) (ports a and b): :func:`friction_band`."""
+    return friction_band(1.0 - values["eta_hm"], values["D"], "a", "b", values["w_w"],
+                         "(1 - eta_hm)*D*|p_a - p_b|/w_w", "the motor's Coulomb friction")
+
+
 def vapour_pressure_param() -> Param:
     """The pressure below which a machine's chambers fill with vapour: the fluid's vapour pressure, or never
     (-1e30 Pa) with the netlist's ``fluid: {cavitation: false}`` (the liquid at every pressure)."""

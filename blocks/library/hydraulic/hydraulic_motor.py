@@ -3,7 +3,7 @@
 import math
 
 from blocks.block import Block, Param, hydraulic, rotational
-from blocks.library.hydraulic.displacement import chamber_fill, friction_band, vapour_pressure_param
+from blocks.library.hydraulic.displacement import chamber_fill, motor_friction_band, vapour_pressure_param
 from blocks.registry import register
 
 
@@ -63,8 +63,7 @@ class HydraulicMotor(Block):
     @classmethod
     def regularisations(cls, values: dict):
         """The friction's tanh band, its size from the pressures at the point (none at eta_hm = 1)."""
-        return friction_band(1.0 - values["eta_hm"], values["D"], "a", "b", values["w_w"],
-                             "(1 - eta_hm)*D*|p_a - p_b|/w_w", "the motor's Coulomb friction")
+        return motor_friction_band(values)
 
     @staticmethod
     def derivatives(a, b, shaft, D, G_leak, J_m, eta_hm, w_w, p_vap):

@@ -3,7 +3,7 @@
 import math
 
 from blocks.block import Block, Param, rotational
-from blocks.regularisation import tanh_band
+from blocks.regularisation import stribeck_band
 from blocks.registry import register
 
 
@@ -38,11 +38,8 @@ class StribeckFriction(Block):
 
     @classmethod
     def regularisations(cls, values: dict):
-        tc, dts, w_s = values["Tc"], values["dTs"], values["w_s"]
-        if tc + dts == 0.0:
-            return ()
-        return tanh_band("port", lambda s, reads: tc + dts * math.exp(-(s / w_s) ** 2), values["w_w"], "w_w",
-                         "(Tc + dTs)/w_w", "N*m*s/rad")
+        return stribeck_band("port", values["Tc"], values["dTs"], values["w_s"], values["w_w"], "w_w",
+                             "(Tc + dTs)/w_w", "N*m*s/rad")
 
     @staticmethod
     def derivatives(port, Tc, dTs, w_s, b, w_w):

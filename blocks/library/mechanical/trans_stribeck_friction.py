@@ -3,7 +3,7 @@
 import math
 
 from blocks.block import Block, Param, translational
-from blocks.regularisation import tanh_band
+from blocks.regularisation import stribeck_band
 from blocks.registry import register
 
 
@@ -39,11 +39,8 @@ class TransStribeckFriction(Block):
 
     @classmethod
     def regularisations(cls, values: dict):
-        fc, dfs, v_s = values["Fc"], values["dFs"], values["v_s"]
-        if fc + dfs == 0.0:
-            return ()
-        return tanh_band("port", lambda s, reads: fc + dfs * math.exp(-(s / v_s) ** 2), values["v_w"], "v_w",
-                         "(Fc + dFs)/v_w", "N*s/m")
+        return stribeck_band("port", values["Fc"], values["dFs"], values["v_s"], values["v_w"], "v_w",
+                             "(Fc + dFs)/v_w", "N*s/m")
 
     @staticmethod
     def derivatives(port, Fc, dFs, v_s, b, v_w):
