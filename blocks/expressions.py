@@ -14,6 +14,7 @@ from __future__ import annotations
 import ast
 import math
 import operator
+import warnings
 from dataclasses import dataclass
 
 FUNCTIONS = {
@@ -87,7 +88,9 @@ def parse_expression(text: str) -> Expression:
     if len(text) > _MAX_LENGTH:
         raise ExpressionError(f"expression longer than {_MAX_LENGTH} characters")
     try:
-        tree = ast.parse(text.strip(), mode="eval").body
+        with warnings.catch_warnings():  # '1if x else y' warns on stderr, outside every message: refused here
+            warnings.simplefilter("error", SyntaxWarning)
+            tree = ast.parse(text.strip(), mode="eval").body
     except SyntaxError as exc:  # Python's own reason ("'(' was never closed") says what to mend
         why = f" ({exc.msg})" if exc.msg and exc.msg != "invalid syntax" else ""
         raise ExpressionError(f"'{text}' is neither a '<number> <unit>' value nor a valid expression{why}") from None
