@@ -814,7 +814,7 @@ def cmd_linearise(args) -> int:
         raise ArgumentError(f"vphs: --f-min {args.f_min} and --f-max {args.f_max}: need 0 < f-min < f-max, both finite")
     if not 2 <= args.points <= MAX_RESPONSE_POINTS:
         raise ArgumentError(f"vphs: --points {args.points}: need 2 to {MAX_RESPONSE_POINTS}")
-    circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False)
+    circuit = Circuit.from_file(args.netlist, quiet=args.quiet, compile=False, regularised=True)
     inputs, in_units = _linear_inputs(args.input, circuit)
     perturbed = {name: f"--input {name} perturbs (the response would leave it out)" for name in inputs}
     overrides = parse_overrides(args.set, circuit, {"t_end": "--at"}, perturbed)

@@ -58,14 +58,16 @@ class Vectors:
 class Circuit:
     """A netlist compiled to a right-hand side over flat state and parameter vectors."""
 
-    def __init__(self, flat: FlatCircuit, quiet: bool = True, compile: bool = True):
-        """Analyse, order and generate the circuit; ``compile=False`` stops before numba (``vphs validate``)."""
+    def __init__(self, flat: FlatCircuit, quiet: bool = True, compile: bool = True, regularised: bool = False):
+        """Analyse, order and generate the circuit; ``compile=False`` stops before numba (``vphs validate``).
+        ``regularised``: observe the blocks' regularised signals too (:mod:`blocks.regularisation`), which only
+        a linearisation reads; a run or an optimiser's evaluation does not carry them at every sample."""
         self.flat = flat
         self.structure: Structure = analyse(flat)
         check_signal_dimensions(flat)
         self.generator = Generator(self.structure)
         self.outputs = self._resolve_outputs()
-        self.monitors = monitors(self)  # observed after the outputs (blocks.valid_ranges, blocks.regularisation)
+        self.monitors = monitors(self, regularised)  # observed after the outputs (blocks.valid_ranges)
         self.settings: SolverSettings = read_settings(flat)
         self.pattern = jacobian_pattern(self.structure)
         self.nominal = nominal_vector(self)  # each state's nominal magnitude, SI (Newton's scale)
@@ -88,13 +90,14 @@ class Circuit:
         interrupt.check()  # a Ctrl-C during compilation that a ctypes callback printed and dropped
 
     @classmethod
-    def from_file(cls, file: str | Path, quiet: bool = True, compile: bool = True) -> "Circuit":
-        return cls(flatten(file), quiet=quiet, compile=compile)
+    def from_file(cls, file: str | Path, quiet: bool = True, compile: bool = True,
+                  regularised: bool = False) -> "Circuit":
+        return cls(flatten(file), quiet=quiet, compile=compile, regularised=regularised)
 
     @property
     def n_observed(self) -> int:
-        """The values ``observe`` writes: the logged outputs, then the checked and regularised signals
-        (:attr:`monitors`)."""
+        """The values ``observe`` writes: the logged outputs, then the checked signals and, in a circuit built
+        to be linearised, the regularised ones (:attr:`monitors`)."""
         return len(self.outputs) + len(self.monitors)
 
     # ---- parameters -----------------------------------------------------------------------------------

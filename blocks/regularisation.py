@@ -12,8 +12,8 @@ Fc = 0 gave 12 Hz at zeta = 0.007.
 A block declares the signals it smooths so (``Block.regularised``: a port's speed), what the smoothed law's
 size reads at the point (``Block.regularised_reads``: a motor's port pressures) and, from its parameters,
 each one's band, |signal| < width, and the smoothed law itself (``Block.regularisations``). The compiled
-``observe`` computes the signals and the reads after the checked signals (:func:`blocks.valid_ranges.
-monitors`); :func:`band_notes` reads them at the operating point and gives a line for each signal that lies
+``observe`` of a circuit built to be linearised (``regularised=True``) computes the signals and the reads
+after the checked signals (:func:`blocks.valid_ranges.monitors`); :func:`band_notes` reads them at the operating point and gives a line for each signal that lies
 inside its band where the law has a slope there, quoting that slope (the one the linear model takes:
 Fc/v_w*sech(v/v_w)^2 for a tanh) beside its value through 0.
 """
@@ -68,6 +68,10 @@ def band_notes(circuit, point) -> list[str]:
     y = np.zeros(circuit.n_observed)
     circuit.module.observe(point.t, np.asarray(point.x, dtype=float), vec.theta, y)
     observed = {(m.comp, m.ref): (value, m.unit) for m, value in zip(circuit.monitors, y[len(circuit.outputs):])}
+    if not any(monitor.ref in circuit.flat.components[monitor.comp].cls.regularised for monitor in circuit.monitors):
+        if any(spec.cls.regularised for spec in circuit.flat.components.values()):
+            raise ValueError("band_notes: the circuit was built without its regularised signals "
+                             "(Circuit(..., regularised=True))")
     notes = []
     for comp, spec in circuit.flat.components.items():
         cls = spec.cls

@@ -9,8 +9,8 @@ value furthest outside it and what the block does there ("the table's end value 
 two output samples is not seen: the check is as fine as ``dt_out``.
 
 The signals a block declares ``regularised`` (:mod:`blocks.regularisation`), and those their laws read,
-are observed after the checked ones, the same way: they have no valid range, and are read at a
-linearisation's operating point only.
+are observed after the checked ones, the same way, in a circuit built to be linearised only (``Circuit(...,
+regularised=True)``): they have no valid range, and are read at its operating point alone.
 """
 
 from __future__ import annotations
@@ -42,12 +42,13 @@ class Monitor:
         return f"{self.comp}.{self.ref}"
 
 
-def monitors(circuit) -> list[Monitor]:
-    """Every checked signal of every block of the circuit, then every regularised one and what their laws
-    read (``regularised_reads``) that is not observed already, resolved as an output would be."""
+def monitors(circuit, regularised: bool = False) -> list[Monitor]:
+    """Every checked signal of every block of the circuit, then (``regularised``: a circuit built to be
+    linearised) every regularised one and what their laws read (``regularised_reads``) that is not observed
+    already, resolved as an output would be."""
     found = []
     refs = [(comp, ref) for comp, spec in circuit.flat.components.items() for ref in spec.cls.checked]
-    for comp, spec in circuit.flat.components.items():
+    for comp, spec in circuit.flat.components.items() if regularised else ():
         refs += [(comp, ref) for ref in dict.fromkeys(spec.cls.regularised + spec.cls.regularised_reads)
                  if ref not in spec.cls.checked]
     for comp, ref in refs:

@@ -68,3 +68,18 @@ def test_a_motor_with_a_rounding_s_pressure_across_it_has_no_note(tmp_path, caps
     across is over it."""
     assert notes(tmp_path, capsys, MOTOR, "--set", "A.initial=20.0005 bar") == []
     assert len(notes(tmp_path, capsys, MOTOR, "--set", "A.initial=21 bar")) == 1
+
+
+def test_only_a_circuit_built_to_be_linearised_observes_the_regularised_signals():
+    """A run or an optimiser's evaluation does not carry them at every sample (the drive line's motor: its
+    speed and both port pressures would be 3 columns more than its 6 outputs)."""
+    from pathlib import Path
+
+    from blocks.circuit import Circuit
+
+    netlist = Path(__file__).resolve().parents[2] / "netlists" / "examples" / "drive_line.yaml"
+    plain = Circuit.from_file(netlist, compile=False)
+    linear = Circuit.from_file(netlist, compile=False, regularised=True)
+    assert plain.n_observed == len(plain.outputs) + sum(len(s.cls.checked) for s in plain.flat.components.values())
+    assert linear.n_observed - plain.n_observed == 3
+    assert {(m.comp, m.ref) for m in linear.monitors[len(plain.monitors):]} == {("motors", r) for r in ("shaft", "a", "b")}
