@@ -67,6 +67,7 @@ class Circuit:
         check_signal_dimensions(flat)
         self.generator = Generator(self.structure)
         self.outputs = self._resolve_outputs()
+        self.regularised = regularised
         self.monitors = monitors(self, regularised)  # observed after the outputs (blocks.valid_ranges)
         self.settings: SolverSettings = read_settings(flat)
         self.pattern = jacobian_pattern(self.structure)

@@ -68,10 +68,9 @@ def band_notes(circuit, point) -> list[str]:
     y = np.zeros(circuit.n_observed)
     circuit.module.observe(point.t, np.asarray(point.x, dtype=float), vec.theta, y)
     observed = {(m.comp, m.ref): (value, m.unit) for m, value in zip(circuit.monitors, y[len(circuit.outputs):])}
-    if not any(monitor.ref in circuit.flat.components[monitor.comp].cls.regularised for monitor in circuit.monitors):
-        if any(spec.cls.regularised for spec in circuit.flat.components.values()):
-            raise ValueError("band_notes: the circuit was built without its regularised signals "
-                             "(Circuit(..., regularised=True))")
+    if not circuit.regularised:
+        raise ValueError("band_notes: the circuit was built without its regularised signals "
+                         "(Circuit(..., regularised=True))")
     notes = []
     for comp, spec in circuit.flat.components.items():
         cls = spec.cls
