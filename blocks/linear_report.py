@@ -61,8 +61,10 @@ def modes_csv(found: list[Mode], notes: list[str] | tuple = ()) -> str:
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(["mode", "real [1/s]", "imag [1/s]", "f_n [Hz]", "zeta [1]", "tau [s]", "states"])
     for k, mode in enumerate(found, 1):
+        # blank where the console writes '-': a real mode has no natural frequency, an integrator no zeta
         writer.writerow([k, f"{mode.eigenvalue.real:.10g}", f"{mode.eigenvalue.imag:.10g}",
-                         f"{mode.natural_frequency:.10g}", f"{mode.damping:.6g}", f"{mode.time_constant:.10g}",
+                         f"{mode.natural_frequency:.10g}" if mode.oscillating else "",
+                         "" if mode.eigenvalue == 0 else f"{mode.damping:.6g}", f"{mode.time_constant:.10g}",
                          "; ".join(f"{s} {share:.4f}" for s, share in mode.participation if share >= 1e-4)])
     return buffer.getvalue()
 
