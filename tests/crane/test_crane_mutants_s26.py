@@ -208,3 +208,42 @@ def test_pvg_command_saturates_at_full_stroke(u):
     for sign in (1.0, -1.0):
         d = derivs(PVG32, v | dict(u=sign * u, x=sign * v["x_max"], dx=0.0))
         assert d["der_dx"] == 0.0 and d["der_x"] == 0.0
+
+
+# ================================================================ LGA loads
+from vphs_blocks.lga_jib_load import LgaJibLoad  # noqa: E402
+
+
+def block_defaults(cls, **kw):
+    return {p.name: p.default for p in cls.params if p.default is not None} | kw
+
+
+@pytest.mark.parametrize("k_vel", [0.25, 0.5, 0.8])
+def test_jib_lagrange_term_is_weighted_linearly_by_k_vel(k_vel):
+    """f_rod = -Fc1 - k_vel*1/2*dm1_eff/dd1*v^2 (eq. 2.64 with the Lagrange term, k_vel its weight in
+    [0, 1]): f is affine in k_vel, so f(k) = (1 - k)*f(0) + k*f(1); the mass does not depend on k_vel.
+    At theta1 = 64.5 deg and v = 0.07 m/s the term is 0.45 % of the weight (test_mechanics.py), far above
+    the rel 1e-12 used."""
+    v = block_defaults(LgaJibLoad, d1_0=2.3, x1=0.25, x2=0.4, rod=0.07)
+    f0, m0 = LgaJibLoad.derivatives(**{k: x for k, x in (v | {"k_vel": 0.0}).items() if k in argument_names(LgaJibLoad.derivatives)})
+    f1, m1 = LgaJibLoad.derivatives(**{k: x for k, x in (v | {"k_vel": 1.0}).items() if k in argument_names(LgaJibLoad.derivatives)})
+    fk, mk = LgaJibLoad.derivatives(**{k: x for k, x in (v | {"k_vel": k_vel}).items() if k in argument_names(LgaJibLoad.derivatives)})
+    assert abs(f1 - f0) > 1e-3 * abs(f0)
+    assert fk == pytest.approx((1.0 - k_vel) * f0 + k_vel * f1, rel=1e-12)
+    assert m0 == m1 == mk
+
+
+def test_unrounded_saturation_is_the_plain_clip():
+    """u_w = 0 (no rounding of the saturation's corners) is the plain clip of u to [0, 1] (mcv_vaa.smooth_unit's
+    docstring): a relief at u1 = 0.3 then opens exactly 0.3*A_prv (eq. 2.24), one at u1 = 1.4 exactly A_prv,
+    one at u1 = -0.2 none."""
+    from vphs_blocks.mcv_vaa import smooth_unit
+
+    for x, clip in ((-0.2, 0.0), (0.0, 0.0), (0.004, 0.004), (0.3, 0.3), (0.999, 0.999), (1.4, 1.0)):
+        assert smooth_unit(x, 0.0) == clip
+    for u1, opening in ((0.3, 0.3), (1.4, 1.0), (-0.2, 0.0)):
+        v = vbso_values(V1=0.0, V2=0.0, C1=20 * BAR, C2=0.0, u1=u1, u_w=0.0)
+        d = derivs(VBSO, v)
+        relief = turbulent(20 * BAR, opening * v["A_prv"], v["dp_t"])
+        check_back = turbulent(-20 * BAR, v["A_leak"], v["dp_t"])
+        assert d["q_V1"] == pytest.approx(relief - check_back, rel=1e-12)
