@@ -247,3 +247,22 @@ def test_unrounded_saturation_is_the_plain_clip():
         relief = turbulent(20 * BAR, opening * v["A_prv"], v["dp_t"])
         check_back = turbulent(-20 * BAR, v["A_leak"], v["dp_t"])
         assert d["q_V1"] == pytest.approx(relief - check_back, rel=1e-12)
+
+
+def test_jib_pose_beyond_the_range_returns_the_end_and_its_length():
+    """jib_pose clamps theta1 to the nearer end of [lo, hi] and returns that end's own cylinder length d1 =
+    |A1*c - b| (eq. 2.31: a length, positive) and k1 = 0 (the jib does not turn)."""
+    from vphs_blocks.lga_geometry import cylinder_length, jib_pose, thesis_geometry
+
+    g = thesis_geometry()
+    lo, hi = math.radians(0.0), math.radians(90.0)
+    d_lo, d_hi = cylinder_length(lo, g), cylinder_length(hi, g)
+    for d1 in (max(d_lo, d_hi) + 0.3, min(d_lo, d_hi) - 0.3):
+        theta, d, k1 = jib_pose(d1, g, lo, hi)
+        assert theta in (lo, hi)
+        assert d == pytest.approx(cylinder_length(theta, g), rel=1e-15) and d > 0.0
+        assert k1 == 0.0
+    # inside the range the pose is the given length's own (round trip) and k1 = d1/h
+    theta, d, k1 = jib_pose(0.5 * (d_lo + d_hi), g, lo, hi)
+    assert lo < theta < hi and d == 0.5 * (d_lo + d_hi)
+    assert cylinder_length(theta, g) == pytest.approx(d, rel=1e-12)
