@@ -36,3 +36,45 @@ def test_pid_back_calculation_uses_the_whole_unsaturated_output(e, xd, xi):
     dxi, dxd = call(PID.derivatives, vals)
     assert dxi == pytest.approx(p["Ki"] * e + p["Kaw"] * (y - v), rel=1e-12)
     assert dxd == pytest.approx((e - xd) / p["Tf"], rel=1e-12)
+
+
+# ---------------------------------------------------------------- time signals
+import numpy as np  # noqa: E402
+
+from blocks.library.signal.profile import Profile  # noqa: E402
+from blocks.library.signal.ramp import Ramp  # noqa: E402
+
+
+@pytest.mark.parametrize("duration", [0.25, 0.5, 1.0, 4.0])
+def test_ramp_with_duration_is_the_straight_line_from_y0_to_y1(duration):
+    """duration > 0: y = y0 + (y1 - y0)*(t - t_start)/duration on [t_start, t_start + duration], y1 after
+    (the docstring), for any duration, also under a second; checked at the quarter points, where a line
+    through both ends is the only law that passes (an error in the interpolation moves at least one of
+    them by > 10 %), and beyond the end, where the slope (ignored) would carry it on."""
+    p = dict(t_start=1.0, y0=2.0, slope=123.0, duration=duration, y1=10.0)
+    for frac in (0.25, 0.5, 0.75):
+        (y,) = Ramp.outputs(t=1.0 + frac * duration, **p)
+        assert y == pytest.approx(2.0 + 8.0 * frac, rel=1e-12)
+    assert Ramp.outputs(t=1.0 + 2.0 * duration, **p) == (10.0,)
+    assert Ramp.outputs(t=1.0 + duration, **p) == (10.0,)
+
+
+@pytest.mark.parametrize("duration", [0.25, 0.5, 1.0, 4.0])
+def test_ramp_breakpoints_are_both_kinks(duration):
+    """A ramp with a duration kinks at t_start and at t_start + duration (where it stops): the solver is
+    told of both, whatever the duration; an unbounded ramp (duration 0) only at t_start."""
+    p = dict(t_start=1.0, y0=2.0, slope=3.0, duration=duration, y1=10.0)
+    assert Ramp.breakpoints(p) == (1.0, 1.0 + duration)
+    assert Ramp.breakpoints(p | {"duration": 0.0}) == (1.0,)
+
+
+def test_profile_breakpoints_skip_points_inside_a_straight_run():
+    """Breakpoints are where the profile's slope changes (docstring): a straight line split into segments of
+    unequal length (slope 1 over [0, 1] and [1, 3]) has none at t = 1; the points where it starts and stops
+    moving (0 and 3) are breakpoints, 4 and 5 (flat padding) are not. A second profile with equal slopes
+    -2 over [0, 0.5] and [0.5, 2] likewise has none at 0.5. The slopes here are exact in binary floating
+    point, so the comparison is exact."""
+    v = {"times": np.array([0.0, 1.0, 3.0, 4.0, 5.0]), "values": np.array([0.0, 1.0, 3.0, 3.0, 3.0])}
+    assert Profile.breakpoints(v) == (0.0, 3.0)
+    v = {"times": np.array([0.0, 0.5, 2.0, 4.0]), "values": np.array([1.0, 0.0, -3.0, 1.0])}  # slopes -2, -2, 2
+    assert Profile.breakpoints(v) == (0.0, 2.0, 4.0)
