@@ -78,3 +78,20 @@ def test_profile_breakpoints_skip_points_inside_a_straight_run():
     assert Profile.breakpoints(v) == (0.0, 3.0)
     v = {"times": np.array([0.0, 0.5, 2.0, 4.0]), "values": np.array([1.0, 0.0, -3.0, 1.0])}  # slopes -2, -2, 2
     assert Profile.breakpoints(v) == (0.0, 2.0, 4.0)
+
+
+# ---------------------------------------------------------------- integrator
+from blocks.library.signal.integrator import Integrator  # noqa: E402
+
+
+@pytest.mark.parametrize("rate", [1e-6, 0.3, 0.999, 5.0])
+def test_integrator_leaves_a_limit_as_soon_as_the_input_reverses(rate):
+    """Conditional integration (docstring): at a limit the state stops only while k*u pushes it further out;
+    any rate back inside, however small, moves it at once: dx/dt = k*u at x = y_min with k*u > 0 and at
+    x = y_max with k*u < 0; pushing outwards, dx/dt = 0."""
+    p = dict(k=2.0, y_min=-1.0, y_max=0.5)
+    u = rate / p["k"]
+    assert Integrator.derivatives(u=u, x=p["y_min"], **p) == (pytest.approx(rate, rel=1e-15),)
+    assert Integrator.derivatives(u=-u, x=p["y_max"], **p) == (pytest.approx(-rate, rel=1e-15),)
+    assert Integrator.derivatives(u=-u, x=p["y_min"], **p) == (0.0,)
+    assert Integrator.derivatives(u=u, x=p["y_max"], **p) == (0.0,)
