@@ -8,10 +8,14 @@ operations on numbers of order 1-100, so they agree to a few ulps: rel 1e-12.
 
 from __future__ import annotations
 
+import numpy as np
 import pytest
 
 from blocks.block import argument_names
+from blocks.library.signal.integrator import Integrator
 from blocks.library.signal.pid import PID
+from blocks.library.signal.profile import Profile
+from blocks.library.signal.ramp import Ramp
 
 
 def call(fn, values: dict):
@@ -39,10 +43,7 @@ def test_pid_back_calculation_uses_the_whole_unsaturated_output(e, xd, xi):
 
 
 # ---------------------------------------------------------------- time signals
-import numpy as np  # noqa: E402
 
-from blocks.library.signal.profile import Profile  # noqa: E402
-from blocks.library.signal.ramp import Ramp  # noqa: E402
 
 
 @pytest.mark.parametrize("duration", [0.25, 0.5, 1.0, 4.0])
@@ -81,7 +82,6 @@ def test_profile_breakpoints_skip_points_inside_a_straight_run():
 
 
 # ---------------------------------------------------------------- integrator
-from blocks.library.signal.integrator import Integrator  # noqa: E402
 
 
 @pytest.mark.parametrize("rate", [1e-6, 0.3, 0.999, 5.0])

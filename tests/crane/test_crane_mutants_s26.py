@@ -23,9 +23,12 @@ import pytest
 
 from blocks.block import argument_names
 from blocks.units import quantity
+from vphs_blocks.lga_jib_load import LgaJibLoad
 from vphs_blocks.mcv_vaa import MotionControlValveVAA as VAA
 from vphs_blocks.mcv_vbso import OverCentreValveVBSO as VBSO
 from vphs_blocks.motor_f12 import ParkerMotor
+from vphs_blocks.pvg32 import PVG32
+from vphs_blocks.servo_valve_4wrle import Servo4WRLE
 
 RHO, CD = 850.0, 0.7
 BAR = 1e5
@@ -137,8 +140,6 @@ def test_vbso_line_2_check_valve_is_table_2_10():
 
 
 # ================================================================ PVG 32 and 4WRLE
-from vphs_blocks.pvg32 import PVG32  # noqa: E402
-from vphs_blocks.servo_valve_4wrle import Servo4WRLE  # noqa: E402
 
 VALVE_OUT = ("q_P", "q_T", "q_A", "q_B", "der_x", "der_dx")
 
@@ -211,7 +212,6 @@ def test_pvg_command_saturates_at_full_stroke(u):
 
 
 # ================================================================ LGA loads
-from vphs_blocks.lga_jib_load import LgaJibLoad  # noqa: E402
 
 
 def block_defaults(cls, **kw):
