@@ -145,6 +145,8 @@ class Param:
                 return f"{self.name} = {v:g}{unit} is below its lower bound {self.lower:g}{unit}"
             if self.upper is not None and v > self.upper:
                 return f"{self.name} = {v:g}{unit} is above its upper bound {self.upper:g}{unit}"
+            if self.integer and v != math.floor(v):
+                return f"{self.name} = {v:g} must be a whole number ({self.description})"
         return None
 
 

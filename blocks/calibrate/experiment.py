@@ -460,6 +460,9 @@ def load_experiment(file: str | Path, circuit=None) -> Experiment:
         start = values[name] if fs.initial is None or starts else si(name, fs.initial, path + ("initial",))
         if isinstance(start, tuple):
             raise located.error(path, f"free.{name}: an array parameter cannot be free")
+        if getattr(entry.bounds, "integer", False):
+            raise located.error(path, f"free.{name}: a whole-number switch ({entry.bounds.description}) cannot "
+                                      f"be fitted; set it under overrides")
         lower = -np.inf if fs.lower is None else si(name, fs.lower, path + ("lower",))
         upper = np.inf if fs.upper is None else si(name, fs.upper, path + ("upper",))
         unit = display_unit(entry, fs)

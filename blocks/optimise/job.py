@@ -640,7 +640,11 @@ class _Resolver:
         path = ("parameters", name)
         if name in self.model.set:
             raise self.error(path, f"parameters.{name}: also fixed in set:; a parameter is either free or fixed")
-        return FreeParam(name, *self.bounds(name, p, path), p.log, self.display_unit(name))
+        bounds = self.bounds(name, p, path)
+        if getattr(self.entries[name].bounds, "integer", False):
+            raise self.error(path, f"parameters.{name}: a whole-number switch ({self.entries[name].bounds.description})"
+                                   f" cannot be optimised; set it under set: or a load case")
+        return FreeParam(name, *bounds, p.log, self.display_unit(name))
 
     def bounds(self, name: str, given: FreeParameter | SweepRange, path: tuple) -> tuple[float, float]:
         """The SI bounds ``given.min`` < ``given.max``; a message quotes them as the job wrote them."""
@@ -803,6 +807,9 @@ class _Resolver:
                 lower, upper = self.bounds(name, values, path)
                 grid = np.geomspace(lower, upper, values.points) if values.log else np.linspace(lower, upper, values.points)
                 columns[name] = [float(v) for v in grid]
+                if getattr(self.entries[name].bounds, "integer", False) and any(v != math.floor(v) for v in grid):
+                    raise self.error(path, f"sweep.parameters.{name}: a whole-number switch "
+                                           f"({self.entries[name].bounds.description}); list its values instead")
         names = list(columns)
         if s.combine == "list":
             lengths = {len(v) for v in columns.values()}
