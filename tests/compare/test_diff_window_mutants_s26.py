@@ -30,3 +30,4 @@ def test_reference_points_on_the_window_ends_are_compared(tmp_path, capsys):
     assert float(row["rmse"]) == pytest.approx(math.sqrt(5.0 / 3.0), rel=1e-9)
     assert float(row["mean_error"]) == pytest.approx(1.0 / 3.0, rel=1e-9)
     assert float(row["max_abs_error"]) == pytest.approx(2.0, rel=1e-9)
+
