@@ -200,3 +200,64 @@ def test_spool_stroke_saturation_without_rounding_is_the_plain_clip():
     """u_w = 0 (its declared lower bound): sat(u) = min(max(u, 0), 1), exact."""
     for x in (-1.0, 0.0, 1e-6, 0.3, 0.999, 1.0, 2.0):
         assert rounded_unit(x, 0.0) == min(max(x, 0.0), 1.0)
+
+
+# ---------------------------------------------------------------- spool relief valve alone against its equations
+SRV = dict(p_set=80e5, k_s=100e5, A_max=2e-5, c_ff=0.2, p_fric=3e5, u_z=1e-3, wn=300.0, zeta=0.7, u_w=0.01, Cd=0.7,
+           dp_t=1e4, rho=RHO)
+
+
+def srv(a, b, u, du, z, **over):
+    return named(SpoolReliefValve, SpoolReliefValve.derivatives(a=a, b=b, u=u, du=du, z=z, **{**SRV, **over}))
+
+
+@pytest.mark.parametrize("z", [-1.0, 0.0, 1.0])
+@pytest.mark.parametrize("c_ff", [0.0, 0.2, -0.1])
+def test_spool_relief_valve_rests_where_spring_flow_force_and_friction_balance(z, c_ff):
+    """'At rest inside the stroke the opening solves u*k_s = dp - p_set - c_ff*u*dp' (with the Dahl friction
+    p_fric*z on the right-hand side too): u = (dp - p_set - p_fric*z)/(k_s + c_ff*dp). A spool placed there
+    at rest feels no acceleration, and one placed 0.05 of the stroke above feels the spring pull it back,
+    wn^2*(u_eq - u) with u_eq the balance at its own opening (the flow force acting on that opening). All
+    openings are on the straight part of sat(u) (u_w = 0.01), where sat(u) = u. The acceleration at the
+    balance is a difference of terms of size wn^2 = 9e4 1/s^2, so it is zero to rounding, 1e-9."""
+    a, b = 130e5, 4e5  # the outlet above the tank: the spring and the flow force see p_a - p_b
+    dp = a - b
+    p = dict(c_ff=c_ff)
+    u_rest = (dp - SRV["p_set"] - SRV["p_fric"] * z) / (SRV["k_s"] + c_ff * dp)
+    assert 0.05 < u_rest < 0.9
+    d = srv(a, b, u_rest, 0.0, z, **p)
+    assert d["der_u"] == 0.0 and d["der_z"] == 0.0  # at rest the friction state stays where it is
+    assert d["der_du"] == pytest.approx(0.0, abs=1e-9)
+    u = u_rest + 0.05
+    u_eq = (dp - SRV["p_set"] - c_ff * u * dp - SRV["p_fric"] * z) / SRV["k_s"]
+    assert srv(a, b, u, 0.0, z, **p)["der_du"] == pytest.approx(SRV["wn"] ** 2 * (u_eq - u), rel=1e-9)
+    assert u_eq < u  # pulled back
+
+
+def test_spool_relief_valve_flow_is_the_orifice_law_of_its_opening():
+    """q = Cd*A_max*s*sqrt(2/rho)*dp/(dp^2 + dp_t^2)^(1/4) with s = sat(u) = u on the straight part: far above
+    dp_t (here 126 bar against 0.1 bar) the square-root law Cd*A_max*u*sqrt(2*dp/rho) to (dp_t/dp)^2/4 ~ 2e-9,
+    checked at 1e-6; a -> b for dp > 0, and what leaves a arrives at b."""
+    a, b = 130e5, 4e5
+    for u in (0.2, 0.5, 0.8):
+        d = srv(a, b, u, 0.0, 0.0)
+        assert d["q_b"] == pytest.approx(0.7 * 2e-5 * u * math.sqrt(2 * (a - b) / RHO), rel=1e-6)
+        assert d["q_a"] == -d["q_b"]
+    assert srv(a, b, 0.0, 0.0, 0.0)["q_b"] == 0.0  # shut: no leak
+
+
+def test_spool_relief_valve_spool_dynamics_and_dahl_law():
+    """u'' = wn^2*(sat(u_eq) - u) - 2*zeta*wn*u' and z' = (u' - z*|u'|)/u_z: at the balance opening the
+    acceleration is the damping alone, -2*zeta*wn*u'; z settles at sign(u') (z' = 0 at z = +1 moving up,
+    at z = -1 moving down) and from z = 0 it moves at u'/u_z. Exact laws; rel 1e-9 allows the rounding."""
+    a, b, z = 130e5, 4e5, 0.0
+    dp = a - b
+    u = (dp - SRV["p_set"]) / (SRV["k_s"] + SRV["c_ff"] * dp)
+    for du in (0.5, -0.5):
+        d = srv(a, b, u, du, z)
+        assert d["der_u"] == du
+        assert d["der_du"] == pytest.approx(-2 * SRV["zeta"] * SRV["wn"] * du, rel=1e-9)
+        assert d["der_z"] == pytest.approx(du / SRV["u_z"], rel=1e-12)
+        assert srv(a, b, u, du, math.copysign(1.0, du))["der_z"] == 0.0
+        # against the motion the friction state turns round at twice the rate
+        assert srv(a, b, u, du, -math.copysign(1.0, du))["der_z"] == pytest.approx(2 * du / SRV["u_z"], rel=1e-12)
