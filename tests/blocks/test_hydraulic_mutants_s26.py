@@ -261,3 +261,70 @@ def test_spool_relief_valve_spool_dynamics_and_dahl_law():
         assert srv(a, b, u, du, math.copysign(1.0, du))["der_z"] == 0.0
         # against the motion the friction state turns round at twice the rate
         assert srv(a, b, u, du, -math.copysign(1.0, du))["der_z"] == pytest.approx(2 * du / SRV["u_z"], rel=1e-12)
+
+
+# ---------------------------------------------------------------- the cavitation law: cavity volume and compliance
+from scipy.integrate import quad  # noqa: E402
+
+from blocks.library.hydraulic.cavitation import (CAVITY_COMPLIANCE, CAVITY_ONSET, cavitating_pressure_rate,  # noqa: E402
+                                                 cavity_volume)
+
+
+@pytest.mark.parametrize("below", [0.0, 0.1 * CAVITY_ONSET, 0.5 * CAVITY_ONSET, 0.9 * CAVITY_ONSET, CAVITY_ONSET,
+                                   1.5 * CAVITY_ONSET, 0.3e5, 2e5])
+def test_cavity_volume_is_the_integral_of_the_compliance_beyond_the_liquids(below):
+    """The module's law: a net's compliance C(p) = dV/dp is the liquid's V/beta above p_vap and
+    w*V/beta + (1 - w)*C_cav below (dp/dt = q/C(p), read back from cavitating_pressure_rate with q = 1), and
+    the cavity at p is V_cav = integral from p to p_vap of (C(u) - V/beta) du. That integrand is
+    (1 - w)*(C_cav - V/beta), so V_cav = (1 - V/(beta*C_cav))*cavity_volume(p): checked by quadrature
+    (scipy's quad, with the onset band's edge as a break point; rel 1e-9, far above its error on a cubic),
+    inside the onset band as well as beyond it. Also the cavity is 0 at p_vap and grows as p falls."""
+    p_vap, beta, V = -0.9e5, 8e8, 1e-3
+    p = p_vap - below
+
+    def excess(u):
+        return 1.0 / cavitating_pressure_rate(u, beta, V, 1.0, p_vap) - V / beta
+
+    if below == 0.0:
+        assert cavity_volume(p, p_vap) == 0.0
+        return
+    edge = p_vap - CAVITY_ONSET
+    points = [edge] if p < edge else None
+    integral, _ = quad(excess, p, p_vap, points=points, epsabs=0.0, epsrel=1e-12, limit=200)
+    assert integral == pytest.approx((1.0 - V / (beta * CAVITY_COMPLIANCE)) * cavity_volume(p, p_vap), rel=1e-9)
+    assert cavity_volume(p, p_vap) > cavity_volume(p + 0.01 * below, p_vap)
+
+
+def test_the_liquid_above_the_vapour_pressure_and_the_cavity_far_below_it():
+    """Above (and at) p_vap: dp/dt = beta/V*q exactly (the liquid); from CAVITY_ONSET below on: the cavity's
+    compliance alone, dp/dt = q/C_cav, and the cavity grows by C_cav per pascal (0.1 bar per litre), with the
+    onset band holding C_cav*dp_onset/2 (the smoothstep's mean is 1/2). Exact laws; rel 1e-12."""
+    p_vap, beta, V, q = -0.9e5, 8e8, 1e-3, -2e-4
+    for p in (p_vap, 0.0, 200e5):
+        assert cavitating_pressure_rate(p, beta, V, q, p_vap) == beta / V * q
+    for below in (CAVITY_ONSET, 2 * CAVITY_ONSET, 1e5):
+        assert cavitating_pressure_rate(p_vap - below, beta, V, q, p_vap) == pytest.approx(q / CAVITY_COMPLIANCE,
+                                                                                          rel=1e-12)
+        assert cavity_volume(p_vap - below, p_vap) == pytest.approx(
+            CAVITY_COMPLIANCE * (below - CAVITY_ONSET / 2), rel=1e-12)
+
+
+# ---------------------------------------------------------------- the pipe alone: mass and its flow's sign
+from blocks.library.hydraulic.pipe import Pipe  # noqa: E402
+
+
+@pytest.mark.parametrize("q", [2e-4, -2e-4])
+def test_pipe_moves_oil_from_a_to_b_and_stores_none_in_flight(q):
+    """'q > 0 flows from a to b: the block delivers -q to net a and +q to net b': what leaves one end arrives
+    at the other (the pipe's oil is the two half volumes stored on the end nets, so the flows must sum to 0),
+    for either direction. A laminar flow (2e-4 m^3/s in 20 mm at nu = 46e-6: Re 277) held by exactly its
+    Hagen-Poiseuille drop 128*mu*l*q/(pi*d^4) neither speeds up nor slows down (dq/dt = 0 to rounding of a
+    difference of ~1e5 Pa terms, scaled by A/(rho*l): 1e-9 of the unbalanced rate)."""
+    l, d, rho, nu = 5.0, 0.02, 870.0, 46e-6
+    drop = 128 * rho * nu * l * q / (math.pi * d ** 4)
+    out = named(Pipe, Pipe.derivatives(a=50e5 + drop, b=50e5, q=q, l=l, d=d, rho=rho, nu=nu))
+    assert out["q_a"] == -q and out["q_b"] == q
+    half = math.pi * d * d / 4 * l / 2
+    assert out["V_a"] == pytest.approx(half, rel=1e-12) and out["V_b"] == pytest.approx(half, rel=1e-12)
+    unbalanced = abs(drop) * (math.pi * d * d / 4) / (rho * l)
+    assert abs(out["der_q"]) <= 1e-9 * unbalanced
