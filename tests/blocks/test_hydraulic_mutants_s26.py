@@ -328,3 +328,20 @@ def test_pipe_moves_oil_from_a_to_b_and_stores_none_in_flight(q):
     assert out["V_a"] == pytest.approx(half, rel=1e-12) and out["V_b"] == pytest.approx(half, rel=1e-12)
     unbalanced = abs(drop) * (math.pi * d * d / 4) / (rho * l)
     assert abs(out["der_q"]) <= 1e-9 * unbalanced
+
+
+# ---------------------------------------------------------------- entrained air below the vapour pressure
+from blocks.library.hydraulic.entrained_air import aerated_pressure_rate, effective_bulk_modulus  # noqa: E402
+
+
+@pytest.mark.parametrize("air", [0.0, 0.01])
+def test_aerated_net_below_the_vapour_pressure_without_cavitation_keeps_the_mixture_at_p_vap(air):
+    """'dp/dt = sum(q) / (V/beta_e(p_vap)), p < p_vap (cavitation: false)': the mixture's compliance frozen at
+    the vapour pressure, so dp/dt is continuous at p_vap (the rate just above it, beta_e(p_vap)/V*q) and the
+    same at any depth below it. Exact laws, one division each way: rel 1e-12."""
+    p_vap, beta, V, q, n = -0.9e5, 8e8, 1e-3, -2e-4, 1.0
+    at_vap = effective_bulk_modulus(p_vap, beta, air, n) / V * q
+    assert aerated_pressure_rate(p_vap, beta, V, q, p_vap, air, n, True) == pytest.approx(at_vap, rel=1e-12)
+    for below in (1.0, 1e4, 5e5):
+        assert aerated_pressure_rate(p_vap - below, beta, V, q, p_vap, air, n, False) == pytest.approx(at_vap,
+                                                                                                      rel=1e-12)
