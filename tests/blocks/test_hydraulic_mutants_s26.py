@@ -9,9 +9,25 @@ from __future__ import annotations
 import math
 
 import pytest
+from scipy.integrate import quad
 
+from blocks.library.hydraulic.cavitation import (CAVITY_COMPLIANCE, CAVITY_ONSET, cavitating_pressure_rate,
+                                                 cavity_volume)
+from blocks.library.hydraulic.check_valve import CheckValve
+from blocks.library.hydraulic.counterbalance_valve import CounterbalanceValve
 from blocks.library.hydraulic.cylinder import Cylinder
+from blocks.library.hydraulic.entrained_air import aerated_pressure_rate, effective_bulk_modulus
 from blocks.library.hydraulic.flow import smooth_max0, smooth_step
+from blocks.library.hydraulic.flow_control_valve import FlowControlValve
+from blocks.library.hydraulic.laminar_orifice import LaminarOrifice
+from blocks.library.hydraulic.orifice import Orifice
+from blocks.library.hydraulic.pipe import Pipe
+from blocks.library.hydraulic.pressure_reducing_valve import PressureReducingValve
+from blocks.library.hydraulic.relief_valve import ReliefValve
+from blocks.library.hydraulic.shuttle_valve import ShuttleValve
+from blocks.library.hydraulic.spool_relief_valve import SpoolReliefValve, rounded_unit
+from blocks.library.hydraulic.valve_4_3 import Valve43
+from blocks.library.hydraulic.variable_orifice import VariableOrifice
 
 BAR = 1e5
 RHO = 850.0
@@ -66,17 +82,6 @@ def test_cylinder_end_stop_without_fade_in_is_a_spring_and_damper_from_contact(e
 
 
 # ---------------------------------------------------------------- only pressure differences drive an orifice
-from blocks.library.hydraulic.check_valve import CheckValve  # noqa: E402
-from blocks.library.hydraulic.counterbalance_valve import CounterbalanceValve  # noqa: E402
-from blocks.library.hydraulic.flow_control_valve import FlowControlValve  # noqa: E402
-from blocks.library.hydraulic.laminar_orifice import LaminarOrifice  # noqa: E402
-from blocks.library.hydraulic.orifice import Orifice  # noqa: E402
-from blocks.library.hydraulic.pressure_reducing_valve import PressureReducingValve  # noqa: E402
-from blocks.library.hydraulic.relief_valve import ReliefValve  # noqa: E402
-from blocks.library.hydraulic.shuttle_valve import ShuttleValve  # noqa: E402
-from blocks.library.hydraulic.spool_relief_valve import SpoolReliefValve, rounded_unit  # noqa: E402
-from blocks.library.hydraulic.valve_4_3 import Valve43  # noqa: E402
-from blocks.library.hydraulic.variable_orifice import VariableOrifice  # noqa: E402
 
 FLUID = dict(Cd=0.7, dp_t=1e4, rho=RHO)
 VALVE = dict(A_max=125e-6, x_db=0.02, A_leak=1e-9, A_float=0.0, A_bypass=0.0, x_c=0.05, **FLUID)
@@ -264,10 +269,6 @@ def test_spool_relief_valve_spool_dynamics_and_dahl_law():
 
 
 # ---------------------------------------------------------------- the cavitation law: cavity volume and compliance
-from scipy.integrate import quad  # noqa: E402
-
-from blocks.library.hydraulic.cavitation import (CAVITY_COMPLIANCE, CAVITY_ONSET, cavitating_pressure_rate,  # noqa: E402
-                                                 cavity_volume)
 
 
 @pytest.mark.parametrize("below", [0.0, 0.1 * CAVITY_ONSET, 0.5 * CAVITY_ONSET, 0.9 * CAVITY_ONSET, CAVITY_ONSET,
@@ -310,7 +311,6 @@ def test_the_liquid_above_the_vapour_pressure_and_the_cavity_far_below_it():
 
 
 # ---------------------------------------------------------------- the pipe alone: mass and its flow's sign
-from blocks.library.hydraulic.pipe import Pipe  # noqa: E402
 
 
 @pytest.mark.parametrize("q", [2e-4, -2e-4])
@@ -331,7 +331,6 @@ def test_pipe_moves_oil_from_a_to_b_and_stores_none_in_flight(q):
 
 
 # ---------------------------------------------------------------- entrained air below the vapour pressure
-from blocks.library.hydraulic.entrained_air import aerated_pressure_rate, effective_bulk_modulus  # noqa: E402
 
 
 @pytest.mark.parametrize("air", [0.0, 0.01])
