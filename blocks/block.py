@@ -117,7 +117,8 @@ class Param:
 
     ``fluid`` names a netlist-level fluid property (rho, nu, beta, vapour_pressure) whose value the parameter
     takes unless the component overrides it. ``array`` parameters are vectors (tables, polynomial coefficients) whose
-    length is fixed when the circuit is built; their default is a tuple.
+    length is fixed when the circuit is built; their default is a tuple. ``integer`` parameters are switches
+    (a table's ``extrapolate``): whole numbers only, never free in an optimisation or a calibration.
     """
 
     name: str
