@@ -3,6 +3,7 @@ in the verdict with what to do about it (blocks/calibrate/run_start.py); a model
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -97,8 +98,13 @@ def test_the_drive_line_recorded_from_mid_motion_is_named_and_freeing_its_initia
     assert cal.unexplained and len(named) == 1, cal.verdict
     # the worst 3 samples of the first 25 (at rest when the recording began at 1463 rpm, the model has
     # reached 9 rpm 8 samples later, where the machine turns at 1509 rpm)
-    assert ("at t = 1.016 s, soon after its first sample (t = 1 s), speed is 1509 rpm measured and 9.192 rpm "
-            "simulated") in named[0], named[0]
+    found = re.search(r"at t = 1\.016 s, soon after its first sample \(t = 1 s\), speed is 1509 rpm measured and "
+                      r"(\S+) rpm simulated", named[0])
+    assert found, named[0]
+    # the simulated speed is the declared model's at its fitted parameters, 16 ms after starting at rest: its
+    # 4th digit follows the fit's end point (9.192 with one numba/scipy, 9.191 with the next), so it is read as
+    # "started at rest and still near it", far below the machine's 1509 rpm
+    assert 5.0 < float(found.group(1)) < 15.0, named[0]
     assert named[0].endswith("free them: spool.initial.x, spool.initial.dx, A.initial, B.initial, shaft.initial")
 
     spec["free"] = {"spool.initial.x": {"initial": 0, "lower": -1, "upper": 1},
