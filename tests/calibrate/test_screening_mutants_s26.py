@@ -17,25 +17,11 @@ from blocks.calibrate.candidates.base import Place
 from blocks.calibrate.fit import FitResult
 from blocks.calibrate.screening import screen
 
+from test_screening import LinearModel, ThresholdModel
+
 N = 120
 T = np.linspace(0.0, 1.0, N)
 FREE = np.column_stack([np.ones(N), T])
-
-
-class _Linear:
-    """r(x) = A x - y; the free parameters are columns 0, 1, the candidate column 2."""
-
-    def __init__(self, A, y):
-        from types import SimpleNamespace
-
-        self.A, self.y = A, y
-        self.data = SimpleNamespace(kind="time")
-        names = ["a", "b", "c"]
-        self.layout = SimpleNamespace(names=lambda: names,
-                                      globals=[SimpleNamespace(name=n, kind="declared") for n in names])
-
-    def residuals(self, x, points=None):
-        return self.A @ x - self.y
 
 
 def _screen(column, y, zero=0.0, one_sided=False, upper=np.inf):
@@ -43,7 +29,7 @@ def _screen(column, y, zero=0.0, one_sided=False, upper=np.inf):
     A = np.column_stack([FREE, column])
     theta = np.linalg.lstsq(FREE, y - zero * column, rcond=None)[0]
     x = np.array([theta[0], theta[1], zero])
-    model = _Linear(A, y)
+    model = LinearModel(A, y)
     r = model.residuals(x)
     active = np.array([True, True, False])
     base = FitResult(x, active, np.ones(N, bool), r, FREE, float(r @ r), N, 2, np.eye(2), np.full(3, np.nan), 0, "",
@@ -149,7 +135,7 @@ def test_the_absorbers_named_are_the_two_largest_contributions():
     theta = np.linalg.lstsq(q, y, rcond=None)[0]
     x = np.append(theta, 0.0)
     names = ["u1", "u2", "u3", "cand"]
-    model = _Linear(A, y)
+    model = LinearModel(A, y)
     model.layout = SimpleNamespace(names=lambda: names,
                                    globals=[SimpleNamespace(name=n, kind="declared") for n in names])
     r = model.residuals(x)
@@ -161,20 +147,6 @@ def test_the_absorbers_named_are_the_two_largest_contributions():
     assert score.absorbed_by == ["u1", "u2"]
 
 
-class _FromThreshold(_Linear):
-    """The candidate acts only from ``threshold`` on (a delay below its shortest passes its input through)."""
-
-    def __init__(self, A, y, threshold):
-        super().__init__(A, y)
-        self.threshold = threshold
-
-    def residuals(self, x, points=None):
-        x = np.array(x, dtype=float)
-        if x[2] < self.threshold:
-            x[2] = 0.0
-        return self.A @ x - self.y
-
-
 @pytest.mark.parametrize("upper, larger", [(100.0, 5.0), (6.0, 3.0)])
 def test_the_larger_step_is_ten_times_the_first_within_half_the_room(upper, larger):
     """First step 0.5, in force from 0.4: half the step (0.25) changes nothing, so the change is not first order
@@ -184,7 +156,7 @@ def test_the_larger_step_is_ten_times_the_first_within_half_the_room(upper, larg
     A = np.column_stack([FREE, c])
     theta = np.linalg.lstsq(FREE, y, rcond=None)[0]
     x = np.array([theta[0], theta[1], 0.0])
-    model = _FromThreshold(A, y, 0.4)
+    model = ThresholdModel(A, y, 0.4)
     r = model.residuals(x)
     base = FitResult(x, np.array([True, True, False]), np.ones(N, bool), r, FREE, float(r @ r), N, 2, np.eye(2),
                      np.full(3, np.nan), 0, "", 0, [])
