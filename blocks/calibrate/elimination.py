@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.exchange import file_name, rebuild, value_in
-from blocks.calibrate.selection import DBIC_MAX, Z_MIN, z_score
+from blocks.calibrate.selection import DBIC_MAX, Z_MIN, tie_broken, z_score
 
 WALD_FACTOR = 4.0  # z^2 above this many times the bar (10 + ln n): the effect stays without a refit
 
@@ -97,7 +97,7 @@ def try_removals(final, effects: list, globals_: list, declared: Path, out: Path
         qualified = [t for t in this_pass if t.refitted and not t.reasons]
         if not qualified:
             break
-        best = min(qualified, key=lambda t: t.dbic)
+        best = tie_broken(qualified, lambda t: t.dbic, lambda t: t.key)[0]
         best.removed = True
         for t in qualified:
             if t is not best:

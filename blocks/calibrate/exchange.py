@@ -34,7 +34,7 @@ from blocks.calibrate.candidates import registered
 from blocks.calibrate.candidates.sensor_offset import range_text
 from blocks.calibrate.experiment import Free
 from blocks.calibrate.patch import NetlistDoc, written
-from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN, z_score
+from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN, tie_broken, z_score
 
 MARGIN = 1.0  # an exchange must lower BIC by more than this
 
@@ -116,7 +116,7 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
             tried.append(ex)
     qualified = [ex for ex in tried if not ex.reasons]
     if qualified:
-        best = min(qualified, key=lambda ex: ex.dbic)
+        best = tie_broken(qualified, lambda ex: ex.dbic, lambda ex: (ex.out_key, ex.in_key))[0]
         best.made = True
         for ex in qualified:
             if ex is not best:

@@ -16,7 +16,10 @@ which makes it as good as the turbulent line loss it had trailed by 13 in BIC). 
 the fit tests (below) and ends within RESTART_WITHIN in BIC of the best is refitted again from RESTART_FACTORS
 starts: the first refit's end with the candidate's parameter moved to zero + f * (phi - zero). The lowest chi^2
 of its starts counts, and the report lists every start's chi^2 where they differ.
-Accepted only if all hold, tried in BIC order until one passes:
+Accepted only if all hold, tried in BIC order until one passes (refits within 0.01 of each other in BIC, and
+screening scores within 1e-6 of each other, are tied and taken in the order of their place keys: equivalent
+places, such as a loss on either side of one valve, agree to their last digits, and rounding, which moves
+with the machine's libraries, must not choose between them):
     |phi - phi0| > 3 SE, phi inside the candidate's physically plausible range, dBIC < -10, a degree of
     freedom left beside the candidate's parameter (with none the refit is exact whatever the model), and the
     held-out error with the candidate (refits without each fold) is lower than without it.
@@ -54,6 +57,8 @@ LINEARISED = "its linearised estimate"  # the first start's label, unless it was
 WORSE_THAN_ZERO = 1.0  # a refit ending this much worse in chi^2 than the candidate at its zero is stuck:
 START_RETREAT = 10.0  # its start is moved this many times nearer the candidate's zero,
 START_RETREATS = 6  # at most this often
+TIE_DBIC = 0.01  # refits closer than this in BIC are tied (a likelihood ratio of 1.005: no evidence either way)
+TIE_SCORE = 1e-6  # screening scores T this close, relative to T, are tied
 
 
 def z_score(phi: float, zero: float, se: float) -> float:
@@ -114,10 +119,33 @@ class Decision:
     depends: list[str] = field(default_factory=list)  # what the choice among the ambiguous alternatives changes
 
 
+def tie_broken(items: list, value, name, tied=lambda a, b: abs(b - a) < TIE_DBIC) -> list:
+    """``items`` by ``value(item)``, least first; items tied with the first of their run (``tied(value of
+    first, value of other)``; by default within TIE_DBIC) in the order of ``name(item)``. Equivalent places
+    (a loss on either side of one valve, the same flow through it: the same effect) score and fit alike to
+    the last digits, and which comes first must not be decided by rounding, which moves with the machine's
+    libraries: a report is the same on every machine."""
+    ordered = sorted(items, key=value)
+    out = []
+    while ordered:
+        first = value(ordered[0])
+        run = [item for item in ordered if item is ordered[0] or tied(first, value(item))]
+        out += sorted(run, key=name)
+        ordered = [item for item in ordered if not any(item is r for r in run)]
+    return out
+
+
 def candidates_to_refit(scores: list[Score], top: int) -> list[Score]:
-    """The ``top`` best-scoring screened candidates with a score worth a refit (T > 3.84, p < 5 %)."""
-    ranked = sorted((s for s in scores if s.status == "screened" and s.T > 3.84), key=lambda s: -s.T)
-    return ranked[:top]
+    """The ``top`` best-scoring screened candidates with a score worth a refit (T > 3.84, p < 5 %); scores
+    within TIE_SCORE (relative) of each other in the order of their place keys."""
+    worth = [s for s in scores if s.status == "screened" and s.T > 3.84]
+    return tie_broken(worth, lambda s: -s.T, lambda s: s.place.key,
+                      lambda a, b: abs(b - a) <= TIE_SCORE * abs(a))[:top]
+
+
+def by_bic(refits: list[Refit]) -> list[Refit]:
+    """Refits best (lowest dBIC) first; refits within TIE_DBIC of each other in the order of their place keys."""
+    return tie_broken(refits, lambda r: r.dbic, lambda r: r.score.place.key)
 
 
 def refit(model: Model, x0: np.ndarray, column: int, base: FitResult, score: Score) -> Refit:
@@ -219,12 +247,12 @@ def decide(scores: list[Score], top: int, heldout_spec, base_model: Model, base_
     for s in chosen:
         model, x0, column = candidate_model(s)
         refits.append(refit(model, x0, column, _aligned(base_fit, base_model, model), s))
-    refits.sort(key=lambda r: r.dbic)
+    refits = by_bic(refits)
     passing = [rf.dbic for rf in refits if rf.passes_fit_tests]
     if passing:  # the window is measured from the best refit that passes (a failing one may lead by far)
         lead = min(passing)
-        refits = [restarted(rf) if rf.passes_fit_tests and rf.dbic - lead < RESTART_WITHIN else rf for rf in refits]
-        refits.sort(key=lambda r: r.dbic)
+        refits = by_bic([restarted(rf) if rf.passes_fit_tests and rf.dbic - lead < RESTART_WITHIN else rf
+                         for rf in refits])
     base_ho = None
     accepted = None
     for rf in refits:
