@@ -657,7 +657,7 @@ def cmd_diff(args) -> int:
         circuit = Circuit.from_file(args.simulated, quiet=args.quiet, compile=False)
         resolve(planned_table(circuit), reference, args.x, args.y)  # names and units, before the run
         overrides = parse_overrides(args.set, circuit, {"t_end": "--t-end"})  # before the (slow) compilation
-        circuit.vectors(overrides)
+        circuit.check_inertia(overrides)
         settings = circuit.settings
         if args.t_end is not None:
             settings = settings.with_(t_end=_seconds_option("--t-end", args.t_end))

@@ -37,14 +37,17 @@ def test_one_inertia_anywhere_on_the_body_runs_and_is_not_blamed(tmp_path):
 
 def test_validate_and_run_refuse_it_before_any_run(tmp_path, capsys):
     """Found by the session-20 fuzzer: `vphs validate` said ok, and only the run failed (exit 1). A zero
-    mass is bad input: exit 2, at the parameter, from validate and from run alike (the simulation call
+    mass is bad input: exit 2, at the parameter, from validate, run and diff alike (session 27: diff ran
+    the netlist and failed at its first step, exit 1; the simulation call
     itself still says it as above, for an optimiser's or a calibration's parameter vector)."""
     import cli
 
     (tmp_path / "net.yaml").write_text(yaml.safe_dump(DRIVEN, sort_keys=False))
-    for command in (["validate"], ["run", "-q", "-o", str(tmp_path / "r.csv")]):
+    (tmp_path / "ref.csv").write_text("t [s],slow [rpm]\n0,0\n0.1,1\n")
+    for command in (["validate"], ["run", "-q", "-o", str(tmp_path / "r.csv")],
+                    ["diff", str(tmp_path / "ref.csv"), "-q", "-o", str(tmp_path / "d.csv")]):
         assert cli.main([command[0], str(tmp_path / "net.yaml"), *command[1:]]) == 2
         err = capsys.readouterr().err
         assert "nothing on the rigid body" in err and "has inertia, and it needs a mass or an inertia" in err
         assert ("motor.J_m = 0, load.J = 0" in err or "load.J = 0, motor.J_m = 0" in err) and err.count("\n") == 1
-    assert not (tmp_path / "r.csv").exists()
+    assert not (tmp_path / "r.csv").exists() and not (tmp_path / "d.csv").exists()
