@@ -1,0 +1,69 @@
+"""bench/rerun_seeds.py: what a rerun is compared with (the seed's latest rerun, else its record), and a
+seed with nothing to compare with refused before anything runs."""
+
+import importlib.util
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture
+def rerun(tmp_path, monkeypatch):
+    monkeypatch.syspath_prepend(str(ROOT / "bench"))
+    spec = importlib.util.spec_from_file_location("rerun_seeds", ROOT / "bench" / "rerun_seeds.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    monkeypatch.setattr(module.mc, "RECORDS", tmp_path)
+    (tmp_path / "archive").mkdir()
+    return module
+
+
+def _record(case: str, seed: int, chi2nu: float, **extra) -> dict:
+    return {"case": case, "seed": seed, "accepted": ["a"], "found": [True], "recovered": [True],
+            "unexplained": False, "chi2nu_after": chi2nu, "heldout_ratio": 1.0, "estimates": {"a": [1.0, 0.1]},
+            "seconds": 5.0, **extra}
+
+
+def _archive(path: Path, rows: list[dict]) -> None:
+    path.write_text("".join(json.dumps(r) + "\n" for r in rows))
+
+
+def test_the_latest_rerun_of_the_seed_in_the_same_records_file_is_the_reference(rerun, tmp_path, monkeypatch):
+    """Two archives hold seed 1 of steady_two; the one listed last in RERUNS wins. Seed 2, in no archive,
+    and seed 1 of the 60-point file (another records file) are compared with their records."""
+    def row(file, seed, chi2nu):
+        return {"file": file, "case": "steady_two", "seed": seed, "before": {}, "after": {"chi2nu_after": chi2nu}}
+
+    _archive(tmp_path / "archive" / "old.jsonl", [row("results.jsonl", 1, 0.5)])
+    _archive(tmp_path / "archive" / "new.jsonl", [row("results.jsonl", 1, 0.6), row("results.jsonl", 3, 0.7)])
+    monkeypatch.setattr(rerun.mc, "RERUNS", (("old.jsonl", ""), ("new.jsonl", "")))
+    assert rerun.latest("results.jsonl", _record("steady_two", 1, 0.4)) == ({"chi2nu_after": 0.6}, "new.jsonl")
+    before, source = rerun.latest("results.jsonl", _record("steady_two", 2, 0.4))
+    assert source == "record" and before["chi2nu_after"] == 0.4 and "seconds" not in before
+    assert rerun.latest("results_flows20.jsonl", _record("steady_two", 1, 0.4))[1] == "record"
+
+
+def test_a_seed_without_a_record_is_refused_before_any_run(rerun, tmp_path, monkeypatch, capsys):
+    """Seed 1 has a record, seed 2's record is an error, seed 3 has none: exit 2, naming 2 and 3, no run
+    started and no archive written."""
+    records = [_record("steady_none", 1, 0.7, planted={}, **{"lambda": None}),
+               {"case": "steady_none", "seed": 2, "error": "RuntimeError: x"}]
+    monkeypatch.setattr(rerun.mc, "load_results", lambda: records)
+    monkeypatch.setattr(rerun.mc, "_worker", lambda job: pytest.fail("a run was started"))
+    assert rerun.main(["s.jsonl", "--cases", "steady_none", "--seeds", "1", "2", "3"]) == 2
+    err = capsys.readouterr().err
+    assert "steady_none seed 2" in err and "steady_none seed 3" in err and "seed 1" not in err
+    assert not (tmp_path / "archive" / "s.jsonl").exists()
+
+
+@pytest.mark.parametrize("argv", [["../x.jsonl", "--cases", "steady_none", "--seeds", "1"],
+                                  ["x.json", "--cases", "steady_none", "--seeds", "1"],
+                                  ["x.jsonl", "--cases", "steady_nope", "--seeds", "1"]])
+def test_a_bad_archive_name_or_case_is_a_usage_error(rerun, argv, capsys):
+    with pytest.raises(SystemExit) as stop:
+        rerun.main(argv)
+    assert stop.value.code == 2 and capsys.readouterr().err.count("error:") == 1
