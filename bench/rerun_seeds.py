@@ -1,13 +1,13 @@
 """Rerun Monte Carlo seeds at their recorded sizes and archive each record beside its rerun.
 
-A change to the code (or to the machine's packages) is checked against the committed records without
-replacing them: each named seed of each named case is run again by bench/calibrate_mc.py's own
-``run_seed``, planted at the values its record holds (so a truth that moved is not resized), and the pair
-{latest, rerun} goes to ``bench/records/archive/ARCHIVE`` (one JSON line per seed; what
-calibrate_mc.py's table compares: the accepted effects, the judgements, the verdict, chi^2/nu, the held-out
-ratio and the estimates). The latest is the seed's rerun in the last archive of calibrate_mc.py's
-``RERUNS`` that has one, else its record. calibrate_mc.py's ``RERUNS`` list turns an archive into a paragraph of the table's
-versions. The committed records, and so the table's rows, stay as they were.
+A change to the code (or to the machine's packages) is checked against the committed records without replacing
+them: each named seed of each named case is run again by bench/calibrate_mc.py's own ``run_seed``, planted at
+the values its record holds (so a truth that moved is not resized), and the pair {latest, rerun} goes to
+``bench/records/archive/ARCHIVE`` (one JSON line per seed; what calibrate_mc.py's table compares: the accepted
+effects, the judgements, the verdict, chi^2/nu, the held-out ratio and the estimates). The latest is the
+seed's rerun in the last archive of calibrate_mc.py's ``RERUNS`` that has one, else its record.
+calibrate_mc.py's ``RERUNS`` list turns an archive into a paragraph of the table's versions. The committed
+records, and so the table's rows, stay as they were.
 
     python bench/rerun_seeds.py s27_packages.jsonl --cases steady_none steady_flow_force --seeds 1 2
     python bench/rerun_seeds.py s27_packages.jsonl --flows 20 --cases steady_none --seeds 1

@@ -11,9 +11,15 @@ from __future__ import annotations
 
 from types import SimpleNamespace
 
+import numpy as np
 import pytest
+import test_elimination as elimination_harness
+import test_exchange as exchange_harness
 
 from blocks.calibrate import selection
+from blocks.calibrate.elimination import try_removals
+from blocks.calibrate.exchange import try_exchanges
+from blocks.calibrate.experiment import Free
 from blocks.calibrate.screening import Score
 
 NOISE = 1e-12  # the relative size of the rounding that separated the two places
@@ -81,10 +87,7 @@ def test_of_two_effects_whose_removals_cost_the_same_the_first_by_name_is_remove
     """The elimination check (blocks.calibrate.elimination) on test_elimination's stand-in fit: A and B both at
     0.5 SE, so removing either lowers BIC by the same 0.25 - ln n; the effects listed in either order, A goes
     first (before, the first listed went)."""
-    from test_elimination import RIG, _place, _stage
-
-    from blocks.calibrate.elimination import try_removals
-    from blocks.calibrate.experiment import Free
+    _place, _stage = elimination_harness._place, elimination_harness._stage
 
     def fit_stage(netlist, globals_, x_prev, prev_model):
         kept = [g.name.split(":", 1)[1] for g in globals_ if g.name.startswith("p:")]
@@ -95,5 +98,32 @@ def test_of_two_effects_whose_removals_cost_the_same_the_first_by_name_is_remove
     final = _stage({key: {"A": 0.5, "B": 0.5, "C": 20.0}[key] for key in order}, 50.0)
     effects = [(_place(key), i + 1) for i, key in enumerate(order)]
     globals_ = [Free(n, 0.0, -1e9, 1e9, 1.0, "") for n in ["k_s"] + [f"p:{key}" for key in order]]
-    tests = try_removals(final, effects, globals_, RIG, tmp_path, fit_stage)
+    tests = try_removals(final, effects, globals_, elimination_harness.RIG, tmp_path, fit_stage)
     assert [t.key for t in tests if t.removed][0] == "A"
+
+
+@pytest.mark.parametrize("noise", [1e-9, -1e-9])
+def test_of_two_exchanges_that_fit_the_same_the_first_by_name_is_made(tmp_path, noise):
+    """The exchange check (blocks.calibrate.exchange) on test_exchange's hand-made rounds: round 1 took A, and
+    swapping it for Z or for B lowers BIC by the same 13 (to rounding); B is made whichever rounds lower and
+    although Z is listed first."""
+    _refit, _round = exchange_harness._refit, exchange_harness._round
+    rounds = [_round(1, _refit("A"), _refit("Z"), _refit("B")), _round(2, _refit("D"))]
+    names = ["k_s", "p:A", "p:D"]
+    final = SimpleNamespace(fit=SimpleNamespace(x=np.array([1.0, 2.0, 3.0]), bic=lambda: 100.0, failed_rows=0),
+                            model=SimpleNamespace(layout=SimpleNamespace(index=names.index)))
+    cal = SimpleNamespace(rounds=rounds, final=final, out=tmp_path, exp=SimpleNamespace(netlist=exchange_harness.RIG))
+    bic = {"p:Z": 87.0, "p:B": 87.0 + noise}
+
+    def fit_stage(netlist, globals_, x_prev, prev_model):
+        new = [g.name for g in globals_]
+        (put_in,) = [n for n in new if n in bic]
+        x = np.zeros(len(new))
+        x[new.index(put_in)] = 5.0
+        return SimpleNamespace(model=SimpleNamespace(layout=SimpleNamespace(index=new.index)),
+                               fit=SimpleNamespace(x=x, se=np.ones(len(new)), bic=lambda: bic[put_in],
+                                                   run_failure=lambda beyond: ""))
+
+    tried = try_exchanges(cal, [Free(n, 0.0, -1.0, 1.0, 1.0, "") for n in names], fit_stage)
+    assert [ex.in_key for ex in tried] == ["Z", "B"]
+    assert [(ex.out_key, ex.in_key) for ex in tried if ex.made] == [("A", "B")]
