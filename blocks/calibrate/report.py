@@ -18,6 +18,7 @@ from blocks.calibrate.fit import ran_rows
 from blocks.calibrate.outliers import largest
 from blocks.calibrate.selection import LINEARISED, several_minima
 from blocks.calibrate.verdict import final_effects
+from blocks.provenance import environment, environment_line
 from blocks.result import atomic_write_figure, atomic_write_text
 from blocks.units import UnitError, display_factor
 
@@ -201,6 +202,7 @@ def build(cal) -> dict:
                       "refitted": t.refitted, "removed": t.removed, "reasons": t.reasons,
                       "netlist": _path(t.netlist) if t.netlist else None} for t in cal.removals],
         "simulations": cal.simulations, "equilibria": cal.equilibria, "seconds": cal.seconds,
+        "environment": environment(),
         "largest_residuals": largest(exp, data, cal.final) if cal.final else None,
         "se_scale": {tag: (float(np.sqrt(st.fit.inflation)) if st else None)
                      for tag, st in (("before", cal.initial), ("after", cal.final))},
@@ -407,7 +409,7 @@ def markdown(cal, info: dict) -> str:
                               "shaded band of one noise sigma.", ""] if cal.initial and cal.final else []) + [
           "![residuals](residuals.png)", "",
           f"Runs: {cal.simulations} simulations, {cal.equilibria} equilibrium solves; time: "
-          + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), ""]
+          + ", ".join(f"{k} {v:.1f} s" for k, v in cal.seconds.items()), "", environment_line(), ""]
     return "\n".join(L)
 
 

@@ -39,6 +39,7 @@ import numpy as np
 
 from blocks.optimise.costs import combine
 from blocks.optimise.display import in_unit, shown
+from blocks.provenance import environment, environment_line
 from blocks.result import atomic_write_figure, atomic_write_text
 
 
@@ -107,7 +108,7 @@ def write_optimise_report(summary) -> Path:
                        for k, v in best["parameters"].items()},
              "cases": best["cases"],
              "set": job.fixed, "load_cases": dict(job.cases),
-             "commands": run_commands(job, best["parameters"])}, indent=2) + "\n")
+             "commands": run_commands(job, best["parameters"]), "environment": environment()}, indent=2) + "\n")
     text = _optimise_markdown(summary, records, signals_png is not None)
     path = folder / "report.md"
     atomic_write_text(path, text)
@@ -205,7 +206,7 @@ def _optimise_markdown(summary, records: list[dict], have_signals: bool) -> str:
              f"from the log; {summary.seconds:.2f} s, {summary.rate:.1f} simulated evaluations/s in this run",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, "
              f"combined by {job.combine} over {', '.join(c for c, _ in job.cases)}; failed simulation = {_fmt(job.penalty)}",
-             ""]
+             f"- {environment_line()}", ""]
     for warning in warnings(summary):
         lines += [f"**Warning:** {warning[0].upper()}{warning[1:]}.", ""]
     comparison, warn = netlist_comparison(summary)
@@ -401,7 +402,7 @@ def write_sweep_report(summary) -> Path:
              f"{len(records) - len(ok)} failed; {summary.seconds:.2f} s, {summary.rate:.1f} simulated evaluations/s "
              f"({summary.executor}, {summary.workers} worker(s))",
              f"- cost: {' + '.join(f'{_fmt(t.weight)}*{t.name}' for t in job.terms)} per load case, combined by "
-             f"{job.combine} over {', '.join(cases)}", ""]
+             f"{job.combine} over {', '.join(cases)}", f"- {environment_line()}", ""]
     if ok:
         best = min(ok, key=lambda r: r["cost"])
         lines += [f"Lowest cost {_fmt(best['cost'])} at " + ", ".join(f"{n} = {_param(job, n, best['parameters'][n])}" for n in names)
