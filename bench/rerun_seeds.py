@@ -13,8 +13,8 @@ records, and so the table's rows, stay as they were.
     python bench/rerun_seeds.py s27_packages.jsonl --flows 20 --cases steady_none --seeds 1
     python bench/rerun_seeds.py s27_packages.jsonl --recorded --cases time_none --seeds 1
 
-A seed already in the archive is skipped (an interrupted run resumes); a seed with no record, or whose
-record is an error, is an error before anything runs.
+A seed already in the archive from the same records file is skipped (an interrupted run resumes); a seed with
+no record, or whose record is an error, is an error before anything runs.
 """
 
 from __future__ import annotations
@@ -36,6 +36,10 @@ def compared(record: dict) -> dict:
     return {key: record.get(key) for key in COMPARED}
 
 
+def _kind(case: str) -> str:
+    return next(c.kind for c in mc.CASES if c.name == case)
+
+
 def latest(file: str, record: dict) -> tuple[dict, str]:
     """What a rerun is compared with: the seed's rerun in the last archive of ``mc.RERUNS`` holding one
     (its compared keys), else its record; and which it is."""
@@ -45,6 +49,25 @@ def latest(file: str, record: dict) -> tuple[dict, str]:
             if (row["file"], row["case"], row["seed"]) == (file, record["case"], record["seed"]):
                 found, source = row["after"], name
     return found, source
+
+
+def plan(cases: list[str], seeds: list[int], archived: list[dict]) -> tuple[list[tuple], list[str]]:
+    """The reruns to make, (case, seed, sizes, record) for each named seed of each named case in the records
+    now configured (``mc.configure``), seed by seed over the cases (an interrupted run covers every case),
+    leaving out those the archive already holds from the same records file; and the seeds with no record to
+    compare with (none, or an error)."""
+    records = {(r["case"], r["seed"]): r for r in mc.load_results()}
+    done = {(r["file"], r["case"], r["seed"]) for r in archived}
+    jobs, missing = [], []
+    for seed in seeds:
+        for name in cases:
+            record = records.get((name, seed))
+            if record is None or "error" in record:
+                missing.append(f"{name} seed {seed}")
+            elif (mc.results_file(_kind(name)).name, name, seed) not in done:
+                sizes = (record["planted"], record["lambda"], record.get("lambda_levels"))
+                jobs.append((name, seed, sizes, record))
+    return jobs, missing
 
 
 def main(argv=None) -> int:
@@ -63,18 +86,9 @@ def main(argv=None) -> int:
     if unknown:
         parser.error(f"unknown case(s) {', '.join(unknown)}")
     mc.configure(args.flows, args.recorded)
-    records = {(r["case"], r["seed"]): r for r in mc.load_results()}
     archive = mc.RECORDS / "archive" / args.archive
-    done = {(r["case"], r["seed"]) for r in mc._records(archive)}
-    jobs, missing = [], []
-    for seed in args.seeds:  # seed by seed over the cases: an interrupted run covers every case
-        for name in args.cases:
-            record = records.get((name, seed))
-            if record is None or "error" in record:
-                missing.append(f"{name} seed {seed}")
-            elif (name, seed) not in done:
-                sizes = (record["planted"], record["lambda"], record.get("lambda_levels"))
-                jobs.append(((name, seed, sizes, args.flows, args.recorded), record))
+    jobs, missing = plan(args.cases, args.seeds, mc._records(archive))
+    jobs = [((name, seed, sizes, args.flows, args.recorded), record) for name, seed, sizes, record in jobs]
     if missing:
         print(f"error: no record to compare with in {mc.RESULTS.name} or {mc.MCV_RESULTS.name}: "
               f"{', '.join(missing)}", file=sys.stderr)
@@ -87,8 +101,7 @@ def main(argv=None) -> int:
             if "error" in after:
                 print(f"{after['case']} seed {after['seed']}: {after['error']} (not archived)", flush=True)
                 continue
-            kind = next(c.kind for c in mc.CASES if c.name == after["case"])
-            file = mc.results_file(kind).name
+            file = mc.results_file(_kind(after["case"])).name
             before, source = latest(file, before)
             line = {"file": file, "case": after["case"], "seed": after["seed"], "before": before,
                     "before_from": source, "after": compared(after), "seconds": after["seconds"]}

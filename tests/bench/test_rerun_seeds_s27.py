@@ -67,3 +67,20 @@ def test_a_bad_archive_name_or_case_is_a_usage_error(rerun, argv, capsys):
     with pytest.raises(SystemExit) as stop:
         rerun.main(argv)
     assert stop.value.code == 2 and capsys.readouterr().err.count("error:") == 1
+
+
+def test_a_seed_archived_from_another_records_file_is_still_rerun(rerun, monkeypatch):
+    """The archive holds seed 1 of steady_none from results.jsonl (the 21-point rows); with --flows 20 the
+    same case and seed are another record (results_flows20.jsonl) and must be rerun; seed 2 from the same
+    file as the archive's is skipped. (The first version keyed the archive by case and seed alone and
+    planned 0 reruns here.)"""
+    rerun.mc.configure(20, False)
+    monkeypatch.setattr(rerun.mc, "load_results", lambda: [_record("steady_none", k, 0.7, planted={},
+                                                                   **{"lambda": None}) for k in (1, 2)])
+    archived = [{"file": "results.jsonl", "case": "steady_none", "seed": 1},
+                {"file": "results_flows20.jsonl", "case": "steady_none", "seed": 2}]
+    try:
+        jobs, missing = rerun.plan(["steady_none"], [1, 2], archived)
+    finally:
+        rerun.mc.configure(None, False)
+    assert missing == [] and [(name, seed) for name, seed, _sizes, _record in jobs] == [("steady_none", 1)]
