@@ -407,6 +407,7 @@ def write_experiment(s: Setup, data_path: Path, path: Path, recorded: bool | Non
 def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
     from blocks.calibrate.run import calibrate
     from blocks.circuit import Circuit
+    from blocks.provenance import environment
 
     s = setup(case.kind)
     values, lams, by_levels = sizes
@@ -486,7 +487,7 @@ def run_seed(case: Case, seed: int, sizes: tuple) -> dict:
             "estimates": {key: [value, se] for key, (value, se) in final.items()},
             "unsettled": cal.final.fit.unsettled if cal.final else None,
             "lengthened": len(cal.final.model.run_end) if cal.final else None,
-            "simulations": cal.simulations}
+            "simulations": cal.simulations, "environment": environment()}
 
 
 def command_from_recording(truth_file: Path, t: np.ndarray, recorded: np.ndarray, sigma: float, work: Path) -> Path:
@@ -1152,6 +1153,16 @@ RERUNS = (  # (archive, what changed): each a paragraph of the table's versions,
      "now has Dahl's exact law, |z| <= 1). It moves the truth where spool friction is planted (lambda at the "
      "recorded size 104.7 -> 103.7, with 60 points 107.2 -> 106.3) and the spool-friction candidate in every "
      "steady seed. Compared with the records above, or with the latest rerun where there is one."),
+    ("s27_ties_packages.jsonl",
+     "Session 27: the records were made on earlier versions of numba, llvmlite, numpy and scipy than this "
+     "machine's (0.68.1, 0.50.0, 2.4.6, 1.17.1), and a rerun on them chose the other port of one element for a "
+     "line loss (seed 1 of `steady_line_loss_turbulent`: meter.a -> meter.b), the two places being equal to the "
+     "last digits (dBIC -116.44409958048 and -116.44409958049). Such ties are now broken by name "
+     "(blocks/calibrate/selection.py: refits within 0.01 in BIC and screening scores within 1e-6 of each other "
+     "are taken in the order of their place keys; so are the elimination's and the exchange's best), so that the "
+     "same data give the same report on every machine. These reruns carry both changes "
+     "(`python bench/rerun_seeds.py s27_ties_packages.jsonl ...`). Compared with the records above, or with the "
+     "latest rerun where there is one."),
 )
 
 
@@ -1184,16 +1195,34 @@ def _rerun_paragraph(archive: str, intro: str) -> str:
     return (intro + " Rerun with it (" + "; ".join(f"{name} {', '.join(seeds)}" for name, seeds in names.items())
             + f"; bench/records/archive/{archive} holds each seed's record and its rerun): the "
             "accepted effects changed in " + _count(len(moved), "seed") + (f" ({changes})" if moved else "")
-            + (" (a delay on the command u and one on the spool's output xs, on either side of the spool's "
-               "linear filter, give the same response)"
-               if moved and all({"transport_delay@u", "transport_delay@xs"} <= set(r["before"]["accepted"])
-                                | set(r["after"]["accepted"]) for r in moved) else "")
-            + (" (each between the two ports of one element: a loss in series on either side of it, the same flow "
-               "through it, is the same effect)" if moved and all(_other_port_only(r) for r in moved) else "")
+            + _why_moved(moved)
             + ", the right column's judgement in " + _count(len(judged), "seed") + ", the verdict in "
             + _count(len(verdicts), "seed") + "; chi^2/nu moved by at most " + most("chi2nu_after")
             + ", the held-out ratio by at most " + most("heldout_ratio") + ", an estimate by at most "
             + (f"{max(shifts):.2g}" if shifts else "0") + " of its standard error.")
+
+
+DELAY_SIDES = ("a delay on the command u and one on the spool's output xs, on either side of the spool's linear "
+               "filter, give the same response")
+PORT_SIDES = ("a loss in series on either side of it, the same flow through it, is the same effect")
+
+
+def _why_moved(moved: list[dict]) -> str:
+    """Why the accepted effects of rerun seeds changed, where every change is between equivalent places: a
+    transport delay on either side of the spool's filter, or a loss at the other port of one element."""
+    delays = [r for r in moved if _delay_sides(r)]
+    ports = [r for r in moved if _other_port_only(r) and r not in delays]
+    if not moved or len(delays) + len(ports) < len(moved):
+        return ""
+    if not ports:
+        return f" ({DELAY_SIDES})"
+    if not delays:
+        return f" (each between the two ports of one element: {PORT_SIDES})"
+    return (f" (the losses each between the two ports of one element: {PORT_SIDES}; the delays: {DELAY_SIDES})")
+
+
+def _delay_sides(row: dict) -> bool:
+    return {"transport_delay@u", "transport_delay@xs"} <= set(row["before"]["accepted"]) | set(row["after"]["accepted"])
 
 
 def _other_port_only(row: dict) -> bool:

@@ -104,7 +104,8 @@ def main(argv=None) -> int:
             file = mc.results_file(_kind(after["case"])).name
             before, source = latest(file, before)
             line = {"file": file, "case": after["case"], "seed": after["seed"], "before": before,
-                    "before_from": source, "after": compared(after), "seconds": after["seconds"]}
+                    "before_from": source, "after": compared(after), "seconds": after["seconds"],
+                    "environment": after.get("environment")}
             with open(archive, "a") as handle:
                 handle.write(json.dumps(line, default=float) + "\n")
             print(f"{after['case']} seed {after['seed']}: accepted {before['accepted']} -> {after['accepted']}, "

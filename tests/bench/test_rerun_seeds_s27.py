@@ -84,3 +84,17 @@ def test_a_seed_archived_from_another_records_file_is_still_rerun(rerun, monkeyp
     finally:
         rerun.mc.configure(None, False)
     assert missing == [] and [(name, seed) for name, seed, _sizes, _record in jobs] == [("steady_none", 1)]
+
+
+def test_changes_between_equivalent_places_are_explained_and_any_other_change_is_not(rerun):
+    def moved(before, after):
+        return {"before": {"accepted": before}, "after": {"accepted": after}}
+
+    port = moved(["line_loss_turbulent@motors.b"], ["line_loss_turbulent@motors.a"])
+    delay = moved(["transport_delay@xs"], ["transport_delay@u"])
+    other = moved(["flow_force@relief"], ["leakage@R-V"])
+    text = rerun.mc._why_moved([port, delay])
+    assert rerun.mc.PORT_SIDES in text and rerun.mc.DELAY_SIDES in text
+    assert rerun.mc._why_moved([port]) == f" (each between the two ports of one element: {rerun.mc.PORT_SIDES})"
+    assert rerun.mc._why_moved([delay]) == f" ({rerun.mc.DELAY_SIDES})"
+    assert rerun.mc._why_moved([port, other]) == "" and rerun.mc._why_moved([]) == ""
