@@ -98,3 +98,21 @@ def test_changes_between_equivalent_places_are_explained_and_any_other_change_is
     assert rerun.mc._why_moved([port]) == f" (each between the two ports of one element: {rerun.mc.PORT_SIDES})"
     assert rerun.mc._why_moved([delay]) == f" ({rerun.mc.DELAY_SIDES})"
     assert rerun.mc._why_moved([port, other]) == "" and rerun.mc._why_moved([]) == ""
+
+
+def test_a_records_file_whose_rows_moved_far_more_is_said_apart(rerun, monkeypatch):
+    """chi^2/nu moved 1e-6 in the first table's rows and 1e-3 in the recorded-command rows (over 100 times
+    more): each group gets its own maxima; when they moved alike, one sentence covers them."""
+    def row(file, case, moved):
+        side = {"accepted": [], "found": [], "unexplained": False, "heldout_ratio": 1.0, "estimates": {}}
+        return {"file": file, "case": case, "seed": 1, "before": {**side, "chi2nu_after": 1.0},
+                "after": {**side, "chi2nu_after": 1.0 + moved}}
+
+    rows = [row("results.jsonl", "time_none", 1e-6), row("results_recorded.jsonl", "time_none", 1e-3)]
+    monkeypatch.setattr(rerun.mc, "_archived", lambda name: rows)
+    text = rerun.mc._rerun_paragraph("x.jsonl", "Intro.")
+    assert "the first table's rows: chi^2/nu moved by at most 1e-06" in text
+    assert "the recorded-command rows: chi^2/nu moved by at most 0.001" in text
+    rows[1] = row("results_recorded.jsonl", "time_none", 2e-6)
+    text = rerun.mc._rerun_paragraph("x.jsonl", "Intro.")
+    assert "; chi^2/nu moved by at most 2e-06," in text and "recorded-command rows:" not in text
