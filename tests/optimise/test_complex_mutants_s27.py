@@ -8,19 +8,9 @@ and "spread <= tol_f") on a complex small enough to follow by hand.
 import numpy as np
 import pytest
 
+from test_complex import BOX, A, B, C, Scripted  # the hand-followed complex and its scripted costs
+
 from blocks.optimise.complex import ComplexSettings, complex_minimise
-
-
-class Scripted:
-    """An evaluate() that records what it is asked and answers costs from a script, in order."""
-
-    def __init__(self, costs):
-        self.costs, self.points, self.info = list(costs), [], []
-
-    def __call__(self, points, info):
-        self.points += [np.array(p, float) for p in points]
-        self.info += list(info)
-        return [self.costs.pop(0) for _ in points]
 
 
 class EverWorse:
@@ -37,8 +27,6 @@ class EverWorse:
         return out
 
 
-A, B, C = (1.0, 1.0), (3.0, 1.0), (2.0, 4.0)
-BOX = ([-10.0, -10.0], [10.0, 10.0])
 
 
 def bowl(points, info):
