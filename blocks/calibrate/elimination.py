@@ -33,7 +33,7 @@ from pathlib import Path
 import numpy as np
 
 from blocks.calibrate.exchange import file_name, rebuild, value_in
-from blocks.calibrate.selection import DBIC_MAX, Z_MIN, tie_broken, z_score
+from blocks.calibrate.selection import DBIC_MAX, TIE_DBIC, Z_MIN, tie_broken, z_score
 
 WALD_FACTOR = 4.0  # z^2 above this many times the bar (10 + ln n): the effect stays without a refit
 
@@ -101,7 +101,8 @@ def try_removals(final, effects: list, globals_: list, declared: Path, out: Path
         best.removed = True
         for t in qualified:
             if t is not best:
-                t.reasons.append(f"{best.key} is removed first (its removal costs less); tested again after it")
+                why = "costs less" if t.dbic - best.dbic >= TIE_DBIC else "costs as little, and its name comes first"
+                t.reasons.append(f"{best.key} is removed first (its removal {why}); tested again after it")
         current, globals_ = best.stage, best.globals_
         effects = [(p, r) for p, r in effects if p.key != best.key]
     return tests

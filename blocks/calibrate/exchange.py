@@ -34,7 +34,7 @@ from blocks.calibrate.candidates import registered
 from blocks.calibrate.candidates.sensor_offset import range_text
 from blocks.calibrate.experiment import Free
 from blocks.calibrate.patch import NetlistDoc, written
-from blocks.calibrate.selection import AMBIGUOUS_DBIC, Z_MIN, tie_broken, z_score
+from blocks.calibrate.selection import AMBIGUOUS_DBIC, TIE_DBIC, Z_MIN, tie_broken, z_score
 
 MARGIN = 1.0  # an exchange must lower BIC by more than this
 
@@ -120,7 +120,8 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
         best.made = True
         for ex in qualified:
             if ex is not best:
-                ex.reasons.append(f"{best.out_key} -> {best.in_key} fits better")
+                ex.reasons.append(f"{best.out_key} -> {best.in_key} fits "
+                                  + ("better" if ex.dbic - best.dbic >= TIE_DBIC else "as well, and comes first by name"))
     return tried
 
 

@@ -100,6 +100,9 @@ def test_of_two_effects_whose_removals_cost_the_same_the_first_by_name_is_remove
     globals_ = [Free(n, 0.0, -1e9, 1e9, 1.0, "") for n in ["k_s"] + [f"p:{key}" for key in order]]
     tests = try_removals(final, effects, globals_, elimination_harness.RIG, tmp_path, fit_stage)
     assert [t.key for t in tests if t.removed][0] == "A"
+    (b_first,) = [t for t in tests if t.key == "B" and t.check == 1]
+    assert b_first.reasons == ["A is removed first (its removal costs as little, and its name comes first); "
+                               "tested again after it"]
 
 
 @pytest.mark.parametrize("noise", [1e-9, -1e-9])
@@ -127,3 +130,4 @@ def test_of_two_exchanges_that_fit_the_same_the_first_by_name_is_made(tmp_path, 
     tried = try_exchanges(cal, [Free(n, 0.0, -1.0, 1.0, 1.0, "") for n in names], fit_stage)
     assert [ex.in_key for ex in tried] == ["Z", "B"]
     assert [(ex.out_key, ex.in_key) for ex in tried if ex.made] == [("A", "B")]
+    assert tried[0].reasons == ["A -> B fits as well, and comes first by name"]
