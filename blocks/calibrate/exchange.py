@@ -120,8 +120,8 @@ def try_exchanges(cal, globals_: list[Free], fit_stage) -> list[Exchange]:
         best.made = True
         for ex in qualified:
             if ex is not best:
-                ex.reasons.append(f"{best.out_key} -> {best.in_key} fits "
-                                  + ("better" if ex.dbic - best.dbic >= TIE_DBIC else "as well, and comes first by name"))
+                how = "better" if ex.dbic - best.dbic >= TIE_DBIC else "as well, and comes first by name"
+                ex.reasons.append(f"{best.out_key} -> {best.in_key} fits {how}")
     return tried
 
 
