@@ -1238,17 +1238,18 @@ PORT_SIDES = ("a loss in series on either side of it, the same flow through it, 
 
 
 def _why_moved(moved: list[dict]) -> str:
-    """Why the accepted effects of rerun seeds changed, where every change is between equivalent places: a
-    transport delay on either side of the spool's filter, or a loss at the other port of one element."""
+    """Why the accepted effects of rerun seeds changed where a change is between equivalent places: a transport
+    delay on either side of the spool's filter, or a loss at the other port of one element (the others, if
+    any, are for the paragraph's intro to say)."""
     delays = [r for r in moved if _delay_sides(r)]
     ports = [r for r in moved if _other_port_only(r) and r not in delays]
-    if not moved or len(delays) + len(ports) < len(moved):
-        return ""
-    if not ports:
+    if len(delays) == len(moved) > 0:
         return f" ({DELAY_SIDES})"
-    if not delays:
+    if len(ports) == len(moved) > 0:
         return f" (each between the two ports of one element: {PORT_SIDES})"
-    return (f" (the losses each between the two ports of one element: {PORT_SIDES}; the delays: {DELAY_SIDES})")
+    said = ([f"the losses that moved between the two ports of one element: {PORT_SIDES}"] if ports else []) + (
+        [f"the delays that moved between u and xs: {DELAY_SIDES}"] if delays else [])
+    return f" ({'; '.join(said)})" if said else ""
 
 
 def _delay_sides(row: dict) -> bool:

@@ -97,7 +97,9 @@ def test_changes_between_equivalent_places_are_explained_and_any_other_change_is
     assert rerun.mc.PORT_SIDES in text and rerun.mc.DELAY_SIDES in text
     assert rerun.mc._why_moved([port]) == f" (each between the two ports of one element: {rerun.mc.PORT_SIDES})"
     assert rerun.mc._why_moved([delay]) == f" ({rerun.mc.DELAY_SIDES})"
-    assert rerun.mc._why_moved([port, other]) == "" and rerun.mc._why_moved([]) == ""
+    assert rerun.mc._why_moved([port, other]) == (" (the losses that moved between the two ports of one element: "
+                                                   f"{rerun.mc.PORT_SIDES})")
+    assert rerun.mc._why_moved([other]) == "" and rerun.mc._why_moved([]) == ""
 
 
 def test_a_records_file_whose_rows_moved_far_more_is_said_apart(rerun, monkeypatch):
