@@ -46,9 +46,10 @@ def _commit() -> str:
     return done.stdout.strip() if done.returncode == 0 else ""
 
 
-def environment_line() -> str:
-    """One line for a markdown report: 'Made with vphs 0.1.0 (commit a2ea64d), Python 3.11.7, numpy 2.4.6, ...'."""
-    env = environment()
+def environment_line(env: dict[str, str] | None = None) -> str:
+    """One line for a markdown report: 'Made with vphs 0.1.0 (commit a2ea64d), Python 3.11.7, numpy 2.4.6, ...',
+    of this process's environment or of ``env`` (one a report recorded)."""
+    env = environment() if env is None else env
     tool = f"vphs {env['vphs']}" + (f" (commit {env['commit']})" if "commit" in env else "")
     return "Made with " + ", ".join([tool, f"Python {env['python']}"]
-                                    + [f"{name} {env[name]}" for name in PACKAGES if name != "vphs"]) + "."
+                                    + [f"{name} {env.get(name, '?')}" for name in PACKAGES if name != "vphs"]) + "."

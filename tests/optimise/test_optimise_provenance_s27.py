@@ -54,3 +54,13 @@ def test_an_optimisation_and_a_sweep_report_say_it(tmp_path):
     assert json.loads((tmp_path / "out" / "best.json").read_text())["environment"] == provenance.environment()
     assert cli.main(["sweep", str(path), "--workers", "1", "-q"]) == 0
     assert f"- {provenance.environment_line()}" in (tmp_path / "out" / "sweep" / "report.md").read_text()
+
+
+def test_a_recorded_environment_is_said_as_recorded_not_as_this_process_has_it():
+    """A page written later from a report (the real-data study) states the report's environment: the line is
+    built from the dict given, a package the report did not record shown as '?'."""
+    recorded = {"python": "3.11.2", "vphs": "0.1.0", "numpy": "1.26.4", "scipy": "1.11.4", "numba": "0.59.0",
+                "llvmlite": "0.42.0", "pydantic": "2.5.3", "commit": "0123abc-dirty"}
+    assert provenance.environment_line(recorded) == (
+        "Made with vphs 0.1.0 (commit 0123abc-dirty), Python 3.11.2, numpy 1.26.4, scipy 1.11.4, numba 0.59.0, "
+        "llvmlite 0.42.0, pydantic 2.5.3, networkx ?.")
