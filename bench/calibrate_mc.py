@@ -1200,9 +1200,10 @@ def _rerun_paragraph(archive: str, intro: str) -> str:
                 if k in (r["after"]["estimates"] or {}) and se]
 
     def moved_by(rows: list[dict]) -> str:
+        moved_se = shifts(rows)
         return ("chi^2/nu moved by at most " + most("chi2nu_after", rows) + ", the held-out ratio by at most "
                 + most("heldout_ratio", rows) + ", an estimate by at most "
-                + (f"{max(shifts(rows)):.2g}" if shifts(rows) else "0") + " of its standard error")
+                + (f"{max(moved_se):.2g}" if moved_se else "0") + " of its standard error")
 
     # where one records file's rows moved far more than the others' (over 100 times in chi^2/nu), each is said
     files = {}
